@@ -1,0 +1,3 @@
+// SPDX-License-Identifier: MIT
+// (implementation pending: foundation work)
+#include "core/triangle_bvh.h"

@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: MIT
+// Axis-aligned bounding-box tree over a triangle surface: closest-point queries
+// (projection onto the input surface) and overlap queries (self-intersection checks).
+#pragma once
+
+#include "core/types.h"
+
+#include <Eigen/Geometry>
+#include <functional>
+
+namespace dthex {
+
+class TriangleBvh {
+ public:
+  struct ClosestPoint {
+    int triangle = -1;     //!< -1 when no triangle was accepted
+    Vec3 point = Vec3::Zero();
+    double distance_sq = 0;
+  };
+
+  //! Builds the tree; the point and triangle arrays are copied.
+  TriangleBvh(const std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& triangles);
+  explicit TriangleBvh(const TriSurface& surface) : TriangleBvh(surface.points, surface.triangles) {}
+
+  //! Closest point of the whole surface to q.
+  ClosestPoint closest_point(const Vec3& q) const;
+  //! Closest point among the triangles for which accept(triangle) is true
+  //! (e.g. only triangles whose normal faces the same way as a coarse facet).
+  ClosestPoint closest_point(const Vec3& q, const std::function<bool(int)>& accept) const;
+
+  //! Calls visit(t) for every triangle whose box overlaps box.
+  void for_each_in_box(const Eigen::AlignedBox3d& box, const std::function<void(int)>& visit) const;
+  //! Calls visit(a, b) once for every pair a < b of triangles whose boxes overlap.
+  void for_each_overlapping_pair(const std::function<void(int, int)>& visit) const;
+
+  size_t size() const { return triangles_.size(); }
+  const Eigen::AlignedBox3d& bounds() const;
+
+ private:
+  struct Node {
+    Eigen::AlignedBox3d box;
+    int left = -1, right = -1;  //!< children, -1 for a leaf
+    int first = 0, count = 0;   //!< leaf range in order_
+  };
+  std::vector<Vec3> points_;
+  std::vector<std::array<int, 3>> triangles_;
+  std::vector<int> order_;
+  std::vector<Node> nodes_;
+};
+
+//! Closest point on triangle (a, b, c) to p (Ericson, Real-Time Collision Detection 5.1.5).
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
+}  // namespace dthex
