@@ -1,0 +1,141 @@
+// SPDX-License-Identifier: MIT
+#include "core/quality.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace dthex {
+namespace {
+
+constexpr double kVerdictDblMin = 2.2250738585072014e-308;  // DBL_MIN, as Verdict compares
+
+// Verdict's corner frames: (corner, xi-neighbour, eta-neighbour, zeta-neighbour).
+constexpr int kHexCorners[8][4] = {{0, 1, 3, 4}, {1, 2, 0, 5}, {2, 3, 1, 6}, {3, 0, 2, 7},
+                                   {4, 7, 5, 0}, {5, 4, 6, 1}, {6, 5, 7, 2}, {7, 6, 4, 3}};
+
+double det3(const Vec3& a, const Vec3& b, const Vec3& c) { return a.dot(b.cross(c)); }
+
+}  // namespace
+
+double triangle_shape(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double area2 = (b - a).cross(c - a).norm();  // twice the area
+  const double sum_sq = (b - a).squaredNorm() + (c - b).squaredNorm() + (a - c).squaredNorm();
+  if (sum_sq <= 0) return 0.0;
+  return 2.0 * std::sqrt(3.0) * area2 / sum_sq;
+}
+
+double tet_shape(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3) {
+  const Vec3 a = p1 - p0, b = p2 - p0, c = p3 - p0;
+  const double jacobian = a.cross(b).dot(c);
+  if (jacobian < kVerdictDblMin) return 0.0;
+  const double num = 3.0 * std::pow(std::sqrt(2.0) * jacobian, 2.0 / 3.0);
+  const double den = 1.5 * (a.squaredNorm() + b.squaredNorm() + c.squaredNorm()) - (a.dot(b) + b.dot(c) + c.dot(a));
+  if (den < kVerdictDblMin) return 0.0;
+  return num / den;
+}
+
+double hex_shape(const std::array<Vec3, 8>& x) {
+  double worst = std::numeric_limits<double>::max();
+  for (const auto& k : kHexCorners) {
+    const Vec3 e1 = x[size_t(k[1])] - x[size_t(k[0])];
+    const Vec3 e2 = x[size_t(k[2])] - x[size_t(k[0])];
+    const Vec3 e3 = x[size_t(k[3])] - x[size_t(k[0])];
+    const double alpha = det3(e1, e2, e3);
+    if (alpha <= kVerdictDblMin) return 0.0;
+    const double frob_sq = e1.squaredNorm() + e2.squaredNorm() + e3.squaredNorm();
+    worst = std::min(worst, 3.0 * std::pow(alpha, 2.0 / 3.0) / frob_sq);
+  }
+  return worst;
+}
+
+double hex_scaled_jacobian(const std::array<Vec3, 8>& x) {
+  double worst = std::numeric_limits<double>::max();
+  auto corner_value = [&](const Vec3& e1, const Vec3& e2, const Vec3& e3) {
+    const double lengths = e1.norm() * e2.norm() * e3.norm();
+    if (lengths <= kVerdictDblMin) return 0.0;  // zero-length edge: degenerate
+    return det3(e1, e2, e3) / lengths;
+  };
+  for (const auto& k : kHexCorners) {
+    worst = std::min(worst, corner_value(x[size_t(k[1])] - x[size_t(k[0])], x[size_t(k[2])] - x[size_t(k[0])],
+                                         x[size_t(k[3])] - x[size_t(k[0])]));
+  }
+  const Vec3 xi = (x[1] - x[0]) + (x[2] - x[3]) + (x[5] - x[4]) + (x[6] - x[7]);
+  const Vec3 eta = (x[3] - x[0]) + (x[2] - x[1]) + (x[7] - x[4]) + (x[6] - x[5]);
+  const Vec3 zeta = (x[4] - x[0]) + (x[5] - x[1]) + (x[6] - x[2]) + (x[7] - x[3]);
+  worst = std::min(worst, corner_value(xi, eta, zeta));
+  return std::clamp(worst, -1.0, 1.0);
+}
+
+std::array<Vec3, 8> hex_corners(const HexMesh& mesh, size_t hex) {
+  std::array<Vec3, 8> x;
+  for (size_t i = 0; i < 8; ++i) x[i] = mesh.nodes[size_t(mesh.hexes[hex][i])];
+  return x;
+}
+
+QualityStats summarize(const std::vector<double>& values) {
+  QualityStats s;
+  s.count = values.size();
+  if (values.empty()) return s;
+  double sum = 0;
+  s.min = values.front();
+  s.max = values.front();
+  for (double v : values) {
+    sum += v;
+    s.min = std::min(s.min, v);
+    s.max = std::max(s.max, v);
+  }
+  s.avg = sum / double(values.size());
+  double var = 0;
+  for (double v : values) var += (v - s.avg) * (v - s.avg);
+  s.std_dev = std::sqrt(var / double(values.size()));
+  return s;
+}
+
+HexQuality measure_hex_quality(const HexMesh& mesh) {
+  HexQuality q;
+  const size_t n = mesh.hexes.size();
+  q.shape.resize(n);
+  q.scaled_jacobian.resize(n);
+  for (size_t h = 0; h < n; ++h) {
+    const auto x = hex_corners(mesh, h);
+    q.shape[h] = hex_shape(x);
+    q.scaled_jacobian[h] = hex_scaled_jacobian(x);
+    if (q.scaled_jacobian[h] <= 0) ++q.inverted;
+    if (q.scaled_jacobian[h] < 0.2) ++q.below_0_2;
+  }
+  q.shape_stats = summarize(q.shape);
+  q.scaled_jacobian_stats = summarize(q.scaled_jacobian);
+  return q;
+}
+
+std::vector<double> triangle_shapes(const TriSurface& s) {
+  std::vector<double> out;
+  out.reserve(s.triangles.size());
+  for (const auto& t : s.triangles)
+    out.push_back(triangle_shape(s.points[size_t(t[0])], s.points[size_t(t[1])], s.points[size_t(t[2])]));
+  return out;
+}
+
+std::vector<double> tet_shapes(const TetMesh& m) {
+  std::vector<double> out;
+  out.reserve(m.tets.size());
+  for (const auto& t : m.tets)
+    out.push_back(tet_shape(m.points[size_t(t[0])], m.points[size_t(t[1])], m.points[size_t(t[2])],
+                            m.points[size_t(t[3])]));
+  return out;
+}
+
+std::vector<size_t> histogram(const std::vector<double>& values, size_t bins, double lo, double hi) {
+  std::vector<size_t> counts(bins, 0);
+  if (bins == 0 || hi <= lo) return counts;
+  for (double v : values) {
+    const double t = (v - lo) / (hi - lo);
+    const long b = std::clamp(long(std::floor(t * double(bins))), 0L, long(bins) - 1);
+    counts[size_t(b)]++;
+  }
+  return counts;
+}
+
+}  // namespace dthex
