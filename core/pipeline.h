@@ -1,0 +1,66 @@
+// SPDX-License-Identifier: MIT
+// The whole DTHex pipeline as one call: read and verify, coarsen, tet-mesh, THex,
+// dice, project onto the input surface, untangle, measure. The om_dthex command and
+// the benchmark harness both run it; writing files is left to the caller.
+#pragma once
+
+#include "core/progress.h"
+#include "core/quality.h"
+#include "core/types.h"
+
+#include <string>
+
+namespace dthex {
+
+struct PipelineOptions {
+  double eps = 0.1;                 //!< coarsening factor (sagitta / radius), in (0, 1)
+  int dice = 2;                     //!< each hex into dice^3
+  double h_max = 0;                 //!< largest coarse edge, input units; 0 = automatic
+  bool thex_only = false;           //!< classic THex of the input: no coarsening, dicing, projection
+  bool project = true;              //!< put the boundary back on the input surface
+  bool strict = false;              //!< fail (MeshingError) if an inverted hex remains
+  std::string tetgen_switches = "pq1.2Y";
+  double time_limit_seconds = 600;  //!< bound for TetGen and the optimizer each
+  bool global_smoothing = false;    //!< smooth the coarse surface globally (the paper's comparison)
+};
+
+struct StageRecord {
+  std::string name;
+  double seconds = 0;
+  std::string detail;
+};
+
+struct SurfaceSummary {
+  size_t vertices = 0, triangles = 0, components = 0, cavities = 0;
+  int genus = 0;
+  double volume = 0, bbox_diagonal = 0;
+  size_t flipped_components = 0;
+  QualityStats shape;
+};
+
+struct PipelineResult {
+  std::string input_path;
+  TriSurface input;
+  SurfaceSummary input_summary;
+  TriSurface coarse;                  //!< the surface TetGen meshed (the input itself for --thex-only)
+  SurfaceSummary coarse_summary;
+  size_t tets = 0;
+  QualityStats tet_shape;
+  HexMesh hexes;
+  HexQuality quality;
+  bool conforming = false;
+  double hausdorff = 0, mean_distance = 0;  //!< hex boundary vs input, input units
+  double hex_volume = 0;
+  size_t inverted_before_untangle = 0;
+  std::vector<size_t> worst_hexes;          //!< ids of the worst hexes by scaled Jacobian
+  std::vector<StageRecord> stages;
+  double total_seconds = 0;
+};
+
+//! Reads and verifies only (InputError on a bad surface).
+PipelineResult read_and_verify(const std::string& input_path, Progress& progress);
+
+//! Runs every stage. Throws InputError (bad input) or MeshingError (a stage failed).
+PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions& options, Progress& progress);
+
+}  // namespace dthex

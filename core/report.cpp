@@ -1,0 +1,119 @@
+// SPDX-License-Identifier: MIT
+#include "core/report.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <sstream>
+
+#ifndef DTHEX_VERSION
+#define DTHEX_VERSION "dev"
+#endif
+
+namespace dthex {
+namespace {
+
+std::string format(const char* fmt, double a, double b, double c, double d) {
+  char buffer[128];
+  std::snprintf(buffer, sizeof buffer, fmt, a, b, c, d);
+  return buffer;
+}
+
+std::string quality_row(const std::string& name, size_t count, const QualityStats& s) {
+  char head[64];
+  std::snprintf(head, sizeof head, "  %-16s %10zu ", name.c_str(), count);
+  return head + format("%8.4f %8.4f %8.4f %8.4f\n", s.avg, s.std_dev, s.min, s.max);
+}
+
+nlohmann::json stats_json(const QualityStats& s) {
+  return {{"count", s.count}, {"avg", s.avg}, {"std", s.std_dev}, {"min", s.min}, {"max", s.max}};
+}
+
+nlohmann::json surface_json(const SurfaceSummary& s) {
+  return {{"vertices", s.vertices},   {"triangles", s.triangles},        {"components", s.components},
+          {"cavities", s.cavities},   {"genus", s.genus},                {"volume", s.volume},
+          {"bbox_diagonal", s.bbox_diagonal}, {"flipped_components", s.flipped_components},
+          {"triangle_shape", stats_json(s.shape)}};
+}
+
+}  // namespace
+
+std::string summary_table(const PipelineResult& r, const PipelineOptions& o) {
+  std::ostringstream out;
+  out << "om_dthex " << DTHEX_VERSION << ": " << r.input_path << (o.thex_only ? " (THex only)" : "") << "\n";
+  out << "  stage                  seconds  result\n";
+  for (const auto& s : r.stages) {
+    char line[160];
+    std::snprintf(line, sizeof line, "  %-20s %9.3f  %s\n", s.name.c_str(), s.seconds, s.detail.c_str());
+    out << line;
+  }
+  char total[96];
+  std::snprintf(total, sizeof total, "  %-20s %9.3f\n", "total", r.total_seconds);
+  out << total << "\n";
+  out << "  quality (Verdict)     elements      avg      std      min      max\n";
+  out << quality_row("input triangles", r.input_summary.triangles, r.input_summary.shape);
+  if (!o.thex_only) out << quality_row("coarse triangles", r.coarse_summary.triangles, r.coarse_summary.shape);
+  out << quality_row("tets", r.tets, r.tet_shape);
+  out << quality_row("hex shape", r.hexes.hexes.size(), r.quality.shape_stats);
+  out << quality_row("hex scaled Jac.", r.hexes.hexes.size(), r.quality.scaled_jacobian_stats);
+  out << "\n";
+  const double diag = r.input_summary.bbox_diagonal > 0 ? r.input_summary.bbox_diagonal : 1.0;
+  char tail[512];
+  std::snprintf(tail, sizeof tail,
+                "  nodes %zu, hexes %zu, inverted %zu, scaled Jacobian < 0.2: %zu, conforming: %s\n"
+                "  distance to input: Hausdorff %.4g (%.3f%% of the bbox diagonal), mean %.4g\n"
+                "  volume: hexes %.6g, input %.6g (%+.3f%%)\n",
+                r.hexes.nodes.size(), r.hexes.hexes.size(), r.quality.inverted, r.quality.below_0_2,
+                r.conforming ? "yes" : "NO", r.hausdorff, 100.0 * r.hausdorff / diag, r.mean_distance, r.hex_volume,
+                r.input_summary.volume,
+                r.input_summary.volume != 0 ? 100.0 * (r.hex_volume - r.input_summary.volume) / r.input_summary.volume
+                                            : 0.0);
+  out << tail;
+  if (r.quality.inverted > 0) {
+    out << "  WARNING: " << r.quality.inverted << " inverted hexes remain; worst:";
+    for (size_t i = 0; i < r.worst_hexes.size() && i < 5; ++i)
+      out << " " << r.worst_hexes[i] << " (SJ " << r.quality.scaled_jacobian[r.worst_hexes[i]] << ")";
+    out << "\n";
+  }
+  return out.str();
+}
+
+std::string report_json(const PipelineResult& r, const PipelineOptions& o) {
+  nlohmann::json j;
+  j["tool"] = "om_dthex";
+  j["version"] = DTHEX_VERSION;
+  j["input"] = {{"path", r.input_path}, {"surface", surface_json(r.input_summary)}};
+  j["options"] = {{"eps", o.eps},
+                  {"dice", o.dice},
+                  {"h_max", o.h_max},
+                  {"thex_only", o.thex_only},
+                  {"project", o.project},
+                  {"strict", o.strict},
+                  {"tetgen", o.tetgen_switches},
+                  {"time_limit_seconds", o.time_limit_seconds}};
+  if (!o.thex_only) j["coarse"] = surface_json(r.coarse_summary);
+  j["tets"] = {{"count", r.tets}, {"shape", stats_json(r.tet_shape)}};
+  j["hex"] = {{"nodes", r.hexes.nodes.size()},
+              {"hexes", r.hexes.hexes.size()},
+              {"shape", stats_json(r.quality.shape_stats)},
+              {"scaled_jacobian", stats_json(r.quality.scaled_jacobian_stats)},
+              {"inverted", r.quality.inverted},
+              {"inverted_before_untangle", r.inverted_before_untangle},
+              {"scaled_jacobian_below_0_2", r.quality.below_0_2},
+              {"conforming", r.conforming},
+              {"volume", r.hex_volume},
+              {"worst_hexes", r.worst_hexes},
+              {"shape_histogram", {{"lo", 0.0}, {"hi", 1.0}, {"counts", histogram(r.quality.shape, 20, 0.0, 1.0)}}},
+              {"scaled_jacobian_histogram",
+               {{"lo", -1.0}, {"hi", 1.0}, {"counts", histogram(r.quality.scaled_jacobian, 40, -1.0, 1.0)}}}};
+  j["distance"] = {{"hausdorff", r.hausdorff},
+                   {"hausdorff_relative", r.input_summary.bbox_diagonal > 0 ? r.hausdorff / r.input_summary.bbox_diagonal : 0.0},
+                   {"mean", r.mean_distance}};
+  nlohmann::json stages = nlohmann::json::array();
+  for (const auto& s : r.stages) stages.push_back({{"name", s.name}, {"seconds", s.seconds}, {"result", s.detail}});
+  j["stages"] = stages;
+  j["total_seconds"] = r.total_seconds;
+  return j.dump(2) + "\n";
+}
+
+}  // namespace dthex

@@ -1,0 +1,19 @@
+// SPDX-License-Identifier: MIT
+// What a run produced, for people and programs: the summary table printed at the
+// end and the JSON report (--report FILE.json).
+#pragma once
+
+#include "core/pipeline.h"
+
+#include <string>
+
+namespace dthex {
+
+//! The paper-style summary: per stage time and counts, then quality of the input
+//! triangles, the coarse triangles, the tets and the hexes, and the distance to the input.
+std::string summary_table(const PipelineResult& result, const PipelineOptions& options);
+
+//! The JSON report: input, coarse, tet and hex statistics, histograms, timings, options, version.
+std::string report_json(const PipelineResult& result, const PipelineOptions& options);
+
+}  // namespace dthex
