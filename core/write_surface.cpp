@@ -4,6 +4,8 @@
 #include "core/atomic_file.h"
 #include "core/output_file.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cctype>
 #include <filesystem>

@@ -260,6 +260,13 @@ TEST(WriteHexMesh, UnknownExtensionAndBadFolderAreInputErrors) {
   EXPECT_THROW(dthex::write_hex_mesh(broken, (dir / "m.inp").string()), dthex::InputError);
   EXPECT_THROW(dthex::write_hex_mesh(mesh, (dir / "m.vtu").string(), {{0.5}, {}}), dthex::InputError);
   EXPECT_EQ(count_files(dir), 1u);  // only plain_file
+  if (::geteuid() != 0) {  // root may write into a read-only folder
+    const fs::path locked = fresh_folder("locked");
+    fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
+    EXPECT_THROW(dthex::write_hex_mesh(mesh, (locked / "m.vtu").string()), dthex::InputError);
+    fs::permissions(locked, fs::perms::owner_all);
+    EXPECT_EQ(count_files(locked), 0u);
+  }
 }
 
 TEST(WriteHexMesh, FailedWriteLeavesNoFile) {
