@@ -46,6 +46,7 @@ class TriangleBvh {
   std::vector<std::array<int, 3>> triangles_;
   std::vector<int> order_;
   std::vector<Node> nodes_;
+  std::vector<Eigen::AlignedBox3d> boxes_;  //!< per triangle (indexed by triangle id)
 };
 
 //! Closest point on triangle (a, b, c) to p (Ericson, Real-Time Collision Detection 5.1.5).
