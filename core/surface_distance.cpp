@@ -15,7 +15,12 @@ void one_sided(const TriSurface& from, const TriangleBvh& to, double& max_distan
     sum += d;
     ++count;
   };
-  for (const Vec3& p : from.points) probe(p);
+  // Only the points the triangles use: a hex mesh's node array also holds interior nodes.
+  std::vector<char> used(from.points.size(), 0);
+  for (const auto& t : from.triangles)
+    for (int v : t) used[size_t(v)] = 1;
+  for (size_t i = 0; i < from.points.size(); ++i)
+    if (used[i]) probe(from.points[i]);
   for (const auto& t : from.triangles) {
     const Vec3& a = from.points[size_t(t[0])];
     const Vec3& b = from.points[size_t(t[1])];
