@@ -177,6 +177,9 @@ RunOutput run_once(const TriSurface& input, const std::vector<double>& h, const 
       smooth_options.projection = [&surface](const Point& p, double& s) { return surface.project(p, s); };
       decimater.module(smoothing).set_options(smooth_options);
     }
+    decimater.set_priority_estimate([&mesh, size](const ModNormalizedLengthT<SurfaceMesh>::CollapseInfo& ci) {
+      return ModNormalizedLengthT<SurfaceMesh>::priority_estimate(mesh, size, ci);
+    });
     ProgressObserver observer(options.progress, 0.9 * double(input.points.size()));
     decimater.set_observer(&observer);
     if (!decimater.initialize()) throw MeshingError("coarsening: the decimater modules failed to initialize");

@@ -7,6 +7,7 @@
 
 #include <OpenMesh/Tools/Decimater/ModBaseT.hh>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -37,7 +38,10 @@ class ModNormalizedLengthT : public OpenMesh::Decimater::ModBaseT<MeshT> {
 
   explicit ModNormalizedLengthT(MeshT& mesh) : Base(mesh, false) {}
 
-  void set_limits(const NormalizedLengthLimits& limits) { limits_ = limits; }
+  void set_limits(const NormalizedLengthLimits& limits) {
+    limits_ = limits;
+    cos_bound_ = std::cos(deg_to_rad(limits.max_normal_deviation_deg));
+  }
   const NormalizedLengthLimits& limits() const { return limits_; }
 
   void initialize() override {
@@ -51,14 +55,27 @@ class ModNormalizedLengthT : public OpenMesh::Decimater::ModBaseT<MeshT> {
     const double hA = m.property(size_, ci.v1), hB = m.property(size_, ci.v0);
     const double l = normalized_length((ci.p1 - ci.p0).norm(), hA, hB);
     if (!(l < 1.0)) return float(Base::ILLEGAL_COLLAPSE);
-    if (!collapse_keeps_shape(m, ci, size_, limits_)) return float(Base::ILLEGAL_COLLAPSE);
+    if (!collapse_keeps_shape(m, ci, size_, limits_, cos_bound_)) return float(Base::ILLEGAL_COLLAPSE);
     return float(l);
+  }
+
+  //! Lower bound of collapse_priority() for RevalidatingDecimaterT::set_priority_estimate:
+  //! the normalized length alone (-1 when it is not below 1).
+  static float priority_estimate(const MeshT& m, OpenMesh::VPropHandleT<double> size, const CollapseInfo& ci) {
+    const double l = normalized_length((ci.p1 - ci.p0).norm(), m.property(size, ci.v1), m.property(size, ci.v0));
+    return l < 1.0 ? float(l) : float(Base::ILLEGAL_COLLAPSE);
   }
 
   //! The geometric part of the legality test (new edges, normals, shapes, feature wings)
   //! as a plain function, for decimaters and checks outside this module.
   static bool collapse_keeps_shape(const MeshT& m, const CollapseInfo& ci,
                                    OpenMesh::VPropHandleT<double> size, const NormalizedLengthLimits& limits) {
+    return collapse_keeps_shape(m, ci, size, limits, std::cos(deg_to_rad(limits.max_normal_deviation_deg)));
+  }
+
+ private:
+  static bool collapse_keeps_shape(const MeshT& m, const CollapseInfo& ci, OpenMesh::VPropHandleT<double> size,
+                                   const NormalizedLengthLimits& limits, double cos_bound) {
     // Feature edges of the two vanishing triangles would be merged with non-feature ones.
     if (m.has_edge_status()) {
       const typename MeshT::HalfedgeHandle wings[4] = {ci.vlv1, ci.v0vl, ci.vrv0, ci.v1vr};
@@ -66,12 +83,12 @@ class ModNormalizedLengthT : public OpenMesh::Decimater::ModBaseT<MeshT> {
         if (h.is_valid() && m.status(m.edge_handle(h)).feature()) return false;
     }
     const double hA = m.property(size, ci.v1);
-    const double cos_bound = std::cos(deg_to_rad(limits.max_normal_deviation_deg));
     // New edges A-P_i (P_i in ring(B) but not already adjacent to A: vl, vr).
     for (auto q : m.vv_range(ci.v0)) {
       if (q == ci.v1 || q == ci.vl || q == ci.vr) continue;
-      const double l = normalized_length((m.point(q) - ci.p1).norm(), hA, m.property(size, q));
-      if (!(l < limits.max_normalized_length)) return false;
+      const double d = (m.point(q) - ci.p1).norm(), hP = m.property(size, q);
+      if (d < limits.max_normalized_length * std::min(hA, hP)) continue;  // l <= d / min(h)
+      if (!(normalized_length(d, hA, hP) < limits.max_normalized_length)) return false;
     }
     // Triangles around B that survive with B replaced by A.
     for (auto h : m.voh_range(ci.v0)) {
@@ -89,9 +106,9 @@ class ModNormalizedLengthT : public OpenMesh::Decimater::ModBaseT<MeshT> {
     return true;
   }
 
- private:
   OpenMesh::VPropHandleT<double> size_;
   NormalizedLengthLimits limits_;
+  double cos_bound_ = std::cos(deg_to_rad(NormalizedLengthLimits().max_normal_deviation_deg));
 };
 
 }  // namespace dthex

@@ -2,7 +2,8 @@
 // Benchmark of the DTHex coarsening: the paper's Table I (triangle shape of the input and
 // after eps 0.01, 0.1, 0.5), Table II (local vs global smoothing at eps 0.01 and 0.05) and
 // coarsening time against OpenMesh's ModQuadricT decimating to the same vertex count.
-// Usage: coarsen_bench MESH.off [MESH2.off ...]
+// Usage: coarsen_bench [--only EPS] MESH.off [MESH2.off ...]
+//        (--only: one coarsening per mesh at EPS, timing only, for profiling)
 #include "core/coarsen.h"
 #include "core/quality.h"
 #include "core/surface_mesh.h"
@@ -43,8 +44,23 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: %s MESH.off [...]\n", argv[0]);
     return 2;
   }
+  double only = 0;
   for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]) == "--only" && i + 1 < argc) {
+      only = std::stod(argv[++i]);
+      continue;
+    }
     try {
+      if (only > 0) {
+        const dthex::TriSurface input = load(argv[i]);
+        dthex::CoarsenOptions options;
+        options.eps = only;
+        const auto r = dthex::coarsen(input, options);
+        std::printf("%s eps %g: %zu -> %zu vertices, %zu collapses, %zu swaps, %zu moves, %d repairs, %.3f s\n",
+                    argv[i], only, input.points.size(), r.surface.points.size(), r.collapses, r.swaps,
+                    r.smoothing_moves, r.repair_rounds, r.seconds);
+        continue;
+      }
       const dthex::TriSurface input = load(argv[i]);
       std::printf("\n## %s (%zu vertices, %zu triangles)\n\nTable I: triangle shape\n\n", argv[i],
                   input.points.size(), input.triangles.size());
