@@ -35,10 +35,13 @@ struct CurvatureSizingOptions {
   double gradation = 0.5;
 };
 
-//! Angle-weighted vertex normal (unit; zero for an isolated vertex). Angle weights make
-//! the normal of a vertex on a sphere radial whatever the triangulation.
+//! Vertex normal with Max's weights (N. Max, "Weights for computing vertex normals from
+//! facet normals", 1999): sum of (a x b) / (|a|^2 |b|^2) over the triangles (a, b edges from
+//! P). It is exact for vertices on a sphere whatever the triangulation, which is what the
+//! osculating radius needs (angle or area weights tilt the normal next to irregular
+//! vertices, and rho is very sensitive to tilt). Unit length; zero for an isolated vertex.
 template <class Mesh>
-typename Mesh::Point angle_weighted_normal(const Mesh& mesh, typename Mesh::VertexHandle v) {
+typename Mesh::Point vertex_normal(const Mesh& mesh, typename Mesh::VertexHandle v) {
   using Point = typename Mesh::Point;
   Point n(0, 0, 0);
   const Point p = mesh.point(v);
@@ -46,11 +49,8 @@ typename Mesh::Point angle_weighted_normal(const Mesh& mesh, typename Mesh::Vert
     if (!mesh.face_handle(h).is_valid()) continue;
     const Point a = mesh.point(mesh.to_vertex_handle(h)) - p;
     const Point b = mesh.point(mesh.to_vertex_handle(mesh.next_halfedge_handle(h))) - p;
-    Point fn = a % b;
-    const double len = fn.norm(), la = a.norm(), lb = b.norm();
-    if (len <= 0 || la <= 0 || lb <= 0) continue;
-    const double angle = std::atan2(len, double(a | b));
-    n += fn * (angle / len);
+    const double w = double(a.sqrnorm() * b.sqrnorm());
+    if (w > 0) n += (a % b) / w;
   }
   const double len = n.norm();
   return len > 0 ? Point(n / len) : n;
@@ -63,7 +63,7 @@ std::vector<double> osculating_radii(const Mesh& mesh) {
   std::vector<double> rho(mesh.n_vertices(), std::numeric_limits<double>::infinity());
   for (auto v : mesh.vertices()) {
     if (mesh.has_vertex_status() && mesh.status(v).deleted()) continue;
-    const auto n = angle_weighted_normal(mesh, v);
+    const auto n = vertex_normal(mesh, v);
     double r = std::numeric_limits<double>::infinity();
     for (auto q : mesh.vv_range(v)) r = std::min(r, osculating_radius(mesh.point(v), n, mesh.point(q)));
     rho[size_t(v.idx())] = r;
