@@ -21,7 +21,8 @@ struct LocalSmoothingOptions {
   double c1 = 0.5;
   //! A move may turn no incident triangle's normal by more than this (degrees).
   double max_normal_deviation_deg = 45.0;
-  //! A move may not push an incident edge past this normalized length (unless it was already).
+  //! After a move every incident edge must be below this normalized length (so a too long
+  //! input edge pins its vertices: smoothing never makes a new edge that is too long).
   double max_normalized_length = std::sqrt(2.0);
   //! Pull-back onto the surface the mesh approximates: returns the point to use for p and
   //! may overwrite size with the sizing field there. Unset = no pull-back, size unchanged.
@@ -29,8 +30,8 @@ struct LocalSmoothingOptions {
 };
 
 //! Smooths one vertex (no-op on locked, feature and boundary vertices). The move is rejected
-//! when it flips or over-turns a normal, lowers the worst incident triangle shape, or makes
-//! an edge too long. Returns true when the vertex moved; updates incident face normals when
+//! when it flips or over-turns a normal, lowers the worst incident triangle shape, or leaves
+//! an incident edge at or above the normalized-length bound. Returns true when the vertex moved; updates incident face normals when
 //! the mesh has them and the size property (if valid) from the projection.
 template <class Mesh>
 bool smooth_vertex(Mesh& mesh, typename Mesh::VertexHandle v, const LocalSmoothingOptions<typename Mesh::Point>& options,
@@ -75,10 +76,7 @@ bool smooth_vertex(Mesh& mesh, typename Mesh::VertexHandle v, const LocalSmoothi
     new_worst = std::min(new_worst, triangle_shape(target, a, b));
     if (size.is_valid()) {
       const double ha = mesh.property(size, va);
-      const double l_new = normalized_length((a - target).norm(), h_new, ha);
-      if (!(l_new < options.max_normalized_length) &&
-          l_new > normalized_length((a - p).norm(), mesh.property(size, v), ha))
-        return false;
+      if (!(normalized_length((a - target).norm(), h_new, ha) < options.max_normalized_length)) return false;
     }
   }
   if (new_worst < worst_shape) return false;
