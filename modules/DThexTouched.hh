@@ -5,6 +5,8 @@
 
 #include "DThexGeometry.hh"
 
+#include <OpenMesh/Core/Utils/Property.hh>
+
 #include <vector>
 
 namespace dthex {

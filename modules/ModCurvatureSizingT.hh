@@ -8,6 +8,8 @@
 
 #include "DThexGeometry.hh"
 
+#include <OpenMesh/Core/Utils/Property.hh>
+
 #include <OpenMesh/Tools/Decimater/ModBaseT.hh>
 
 #include <algorithm>
