@@ -2,12 +2,13 @@
 #include "core/coarsen.h"
 #include "core/features.h"
 #include "core/quality.h"
+#include "core/read_surface.h"
 #include "core/surface_mesh.h"
 #include "core/triangle_bvh.h"
+#include "core/verify_surface.h"
 
 #include "DThexGeometry.hh"
 
-#include <OpenMesh/Core/IO/MeshIO.hh>
 #include <gtest/gtest.h>
 
 #include <map>
@@ -17,13 +18,7 @@ using namespace dthex;
 
 namespace {
 
-TriSurface load(const std::string& name) {
-  SurfaceMesh mesh;
-  OpenMesh::IO::Options opt;
-  const std::string path = std::string(DTHEX_SOURCE_DIR) + "/meshes/" + name;
-  if (!OpenMesh::IO::read_mesh(mesh, path, opt)) throw std::runtime_error("cannot read " + path);
-  return from_openmesh(mesh);
-}
+TriSurface load(const std::string& name) { return read_surface(std::string(DTHEX_SOURCE_DIR) + "/meshes/" + name); }
 
 double diagonal(const TriSurface& s) {
   Eigen::AlignedBox3d box;
@@ -78,6 +73,13 @@ void check_coarse_surface(const TriSurface& input, const CoarsenOptions& options
   expect_closed_oriented_manifold(c, name);
   EXPECT_TRUE(self_intersections(c).empty());
   EXPECT_EQ(euler_characteristic(c), euler_characteristic(input));
+  // The foundation's verification (closed, manifold, oriented, no self-intersections) passes.
+  TriSurface verified = c, input_copy = input;
+  SurfaceStats stats, input_stats;
+  EXPECT_NO_THROW(stats = verify_surface(verified, name + " (coarse)"));
+  ASSERT_NO_THROW(input_stats = verify_surface(input_copy, name));
+  EXPECT_EQ(stats.genus, input_stats.genus);
+  EXPECT_EQ(stats.components, input_stats.components);
   // Every vertex lies on the input surface.
   const TriangleBvh bvh(input);
   const double diag = diagonal(input);

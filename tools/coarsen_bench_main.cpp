@@ -6,9 +6,12 @@
 //        (--only: one coarsening per mesh at EPS, timing only, for profiling)
 #include "core/coarsen.h"
 #include "core/quality.h"
+#include "core/read_surface.h"
+#include "core/verify_surface.h"
 #include "core/surface_mesh.h"
 
-#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Utils/Noncopyable.hh>
+#include <OpenMesh/Core/System/omstream.hh>
 #include <OpenMesh/Tools/Decimater/DecimaterT.hh>
 #include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
 
@@ -20,9 +23,9 @@
 namespace {
 
 dthex::TriSurface load(const std::string& path) {
-  dthex::SurfaceMesh mesh;
-  if (!OpenMesh::IO::read_mesh(mesh, path)) throw dthex::InputError("cannot read " + path);
-  return dthex::from_openmesh(mesh);
+  dthex::TriSurface surface = dthex::read_surface(path);
+  dthex::verify_surface(surface, path);
+  return surface;
 }
 
 double cpu_seconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
