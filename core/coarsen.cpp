@@ -26,7 +26,8 @@ using Point = SurfaceMesh::Point;
 //! closest input triangle): the size of a moved coarse vertex is the input's at its position.
 class InputSurface {
  public:
-  InputSurface(const TriSurface& input, const std::vector<double>* sizes) : input_(input), bvh_(input), sizes_(sizes) {}
+  InputSurface(const TriSurface& input, const TriangleBvh& bvh, const std::vector<double>* sizes)
+      : input_(input), bvh_(bvh), sizes_(sizes) {}
 
   Point project(const Point& p, double& size) const {
     const auto cp = bvh_.closest_point(to_eigen(p));
@@ -54,7 +55,7 @@ class InputSurface {
 
  private:
   const TriSurface& input_;
-  TriangleBvh bvh_;
+  const TriangleBvh& bvh_;
   const std::vector<double>* sizes_;
 };
 
@@ -132,9 +133,9 @@ struct RunOutput {
   size_t collapses = 0, swaps = 0, moves = 0;
 };
 
-RunOutput run_once(const TriSurface& input, const std::vector<double>& h, const std::vector<char>& locked,
-                   const CoarsenOptions& options) {
-  SurfaceMesh mesh = to_openmesh(input);
+RunOutput run_once(const SurfaceMesh& input_mesh, const TriSurface& input, const TriangleBvh& input_bvh,
+                   const std::vector<double>& h, const std::vector<char>& locked, const CoarsenOptions& options) {
+  SurfaceMesh mesh = input_mesh;
   // Status must be requested by the app, not only by the decimater (notes section 1).
   mesh.request_vertex_status();
   mesh.request_edge_status();
@@ -145,7 +146,7 @@ RunOutput run_once(const TriSurface& input, const std::vector<double>& h, const 
   const auto size = size_property(mesh);
   for (auto v : mesh.vertices()) mesh.property(size, v) = h[size_t(v.idx())];
 
-  const InputSurface surface(input, &h);
+  const InputSurface surface(input, input_bvh, &h);
   RunOutput out;
   {
     RevalidatingDecimaterT<SurfaceMesh> decimater(mesh);
@@ -213,17 +214,14 @@ CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options) {
   if (input.triangles.empty()) throw InputError("coarsen: the surface has no triangles");
 
   // Sizing field and features on the input.
-  std::vector<double> h;
-  {
-    SurfaceMesh mesh = to_openmesh(input);
-    CurvatureSizingOptions sizing;
-    sizing.eps = options.eps;
-    sizing.h_min = options.h_min;
-    sizing.h_max = options.h_max;
-    sizing.gradation = options.gradation;
-    std::tie(result.h_min, result.h_max) = sizing_bounds(mesh, sizing);
-    h = curvature_sizing(mesh, sizing);
-  }
+  const SurfaceMesh input_mesh = to_openmesh(input);
+  CurvatureSizingOptions sizing;
+  sizing.eps = options.eps;
+  sizing.h_min = options.h_min;
+  sizing.h_max = options.h_max;
+  sizing.gradation = options.gradation;
+  std::tie(result.h_min, result.h_max) = sizing_bounds(input_mesh, sizing);
+  std::vector<double> h = curvature_sizing(input_mesh, sizing);
   const Features features = detect_features(input, options.feature_angle_deg);
   result.feature_edges = features.edges.size();
   result.feature_corners = features.corners.size();
@@ -232,7 +230,7 @@ CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options) {
   const TriangleBvh input_bvh(input);
   RunOutput run;
   for (int round = 0;; ++round) {
-    run = run_once(input, h, locked, options);
+    run = run_once(input_mesh, input, input_bvh, h, locked, options);
     const auto crossings = self_intersections(run.surface);
     if (crossings.empty()) break;
     if (round >= options.max_repair_rounds)
@@ -271,7 +269,14 @@ CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options) {
     GlobalSmoothingOptions global;
     global.max_normal_deviation_deg = options.max_normal_deviation_deg;
     global.feature_angle_deg = options.feature_angle_deg;
-    result.global_smoothing_iterations = global_smoothing(result.surface, input, global, &result.sizes, &h);
+    TriSurface smoothed = result.surface;
+    std::vector<double> sizes = result.sizes;
+    const size_t iterations = global_smoothing(smoothed, input, global, &sizes, &h);
+    if (self_intersections(smoothed).empty()) {  // otherwise keep the surface before smoothing
+      result.surface = std::move(smoothed);
+      result.sizes = std::move(sizes);
+      result.global_smoothing_iterations = iterations;
+    }
   }
   if (options.progress) options.progress(1.0);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -281,7 +286,8 @@ CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options) {
 size_t global_smoothing(TriSurface& coarse, const TriSurface& input, const GlobalSmoothingOptions& options,
                         std::vector<double>* sizes, const std::vector<double>* input_sizes) {
   const bool with_sizes = sizes && input_sizes && sizes->size() == coarse.points.size();
-  const InputSurface surface(input, with_sizes ? input_sizes : nullptr);
+  const TriangleBvh bvh(input);
+  const InputSurface surface(input, bvh, with_sizes ? input_sizes : nullptr);
   SurfaceMesh mesh = to_openmesh(coarse);
   mesh.request_vertex_status();
   mesh.request_edge_status();

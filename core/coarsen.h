@@ -35,6 +35,7 @@ struct CoarsenResult {
   std::vector<double> sizes;      //!< sizing field at each coarse vertex
   size_t input_vertices = 0;
   size_t collapses = 0, swaps = 0, smoothing_moves = 0;
+  //! 0 when global smoothing was off, or undone because it made the surface self-intersect.
   size_t global_smoothing_iterations = 0;
   size_t feature_edges = 0, feature_corners = 0;  //!< on the input
   int repair_rounds = 0;          //!< extra runs needed to remove self-intersections

@@ -58,10 +58,13 @@ int main(int argc, char** argv) {
         const dthex::TriSurface input = load(argv[i]);
         dthex::CoarsenOptions options;
         options.eps = only;
+        const double c0 = cpu_seconds();
         const auto r = dthex::coarsen(input, options);
-        std::printf("%s eps %g: %zu -> %zu vertices, %zu collapses, %zu swaps, %zu moves, %d repairs, %.3f s\n",
+        const double cpu = cpu_seconds() - c0;
+        std::printf("%s eps %g: %zu -> %zu vertices, %zu collapses, %zu swaps, %zu moves, %d repairs, "
+                    "%.3f s wall, %.3f s CPU\n",
                     argv[i], only, input.points.size(), r.surface.points.size(), r.collapses, r.swaps,
-                    r.smoothing_moves, r.repair_rounds, r.seconds);
+                    r.smoothing_moves, r.repair_rounds, r.seconds, cpu);
         continue;
       }
       const dthex::TriSurface input = load(argv[i]);
