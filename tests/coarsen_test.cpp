@@ -219,3 +219,17 @@ TEST(Coarsen, CubeKeepsCornersAndFeatureLines) {
   }
   EXPECT_EQ(detect_features(r.surface).corners.size(), 8u);
 }
+
+TEST(Coarsen, CtFemurStaysValid) {
+  // 72,868 triangles of CT staircase: the case where quadric decimation self-intersected.
+  CoarsenOptions options;
+  double last_progress = -1;
+  bool monotone = true;
+  options.progress = [&](double f) {
+    monotone = monotone && f >= last_progress && f <= 1.0;
+    last_progress = f;
+  };
+  check_coarse_surface(load("femur_proximal_ct.off"), options, "femur_proximal_ct");
+  EXPECT_TRUE(monotone);
+  EXPECT_DOUBLE_EQ(last_progress, 1.0);
+}
