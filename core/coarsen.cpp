@@ -226,7 +226,7 @@ CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options) {
   result.feature_edges = features.edges.size();
   result.feature_corners = features.corners.size();
 
-  std::vector<char> locked(input.points.size(), 0);
+  std::vector<char> locked(input.points.size(), 0), halve(input.points.size(), 0);
   const TriangleBvh input_bvh(input);
   RunOutput run;
   for (int round = 0;; ++round) {
@@ -238,7 +238,9 @@ CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options) {
                          " self-intersecting triangle pairs remain after " + std::to_string(round) +
                          " repair rounds (first: triangles " + std::to_string(crossings[0][0]) + " and " +
                          std::to_string(crossings[0][1]) + ")");
-    // Around each offending triangle: halve the sizes, or keep the input from round 2 on.
+    // Around each offending triangle: halve the sizes (shorter chords dip less), and in the
+    // last round keep the input vertices there (the input does not self-intersect).
+    const bool lock = round + 1 >= options.max_repair_rounds;
     for (const auto& pair : crossings)
       for (int f : pair) {
         Eigen::AlignedBox3d box;
@@ -252,11 +254,15 @@ CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options) {
         input_bvh.for_each_in_box(box, [&](int t) {
           for (int v : input.triangles[size_t(t)]) {
             if (!box.contains(input.points[size_t(v)])) continue;
-            if (round >= 1) locked[size_t(v)] = 1;
-            else h[size_t(v)] = std::max(0.5 * h[size_t(v)], 1e-300);
+            if (lock) locked[size_t(v)] = 1;
+            else halve[size_t(v)] = 1;
           }
         });
       }
+    for (size_t v = 0; v < h.size(); ++v)
+      if (halve[v]) h[v] *= 0.5;
+    std::fill(halve.begin(), halve.end(), 0);
+    limit_gradation(input_mesh, h, options.gradation);
     ++result.repair_rounds;
   }
   result.surface = std::move(run.surface);

@@ -24,7 +24,8 @@ struct CoarsenOptions {
   double feature_angle_deg = kDefaultFeatureAngleDeg;
   bool edge_swap = true, local_smoothing = true, global_smoothing = false;
   //! Self-intersections found in the result are repaired by re-running with the sizing
-  //! halved (then the input kept) around them; at most this many extra runs.
+  //! halved around them (the last extra run keeps the input vertices there instead); at
+  //! most this many extra runs.
   int max_repair_rounds = 4;
   //! Called with a rough completed fraction in [0, 1].
   std::function<void(double)> progress;

@@ -233,3 +233,22 @@ TEST(Coarsen, CtFemurStaysValid) {
   EXPECT_TRUE(monotone);
   EXPECT_DOUBLE_EQ(last_progress, 1.0);
 }
+
+TEST(Coarsen, ThinShellNeedsAndGetsTheSelfIntersectionRepair) {
+  // A spherical shell: outer sphere r = 1 and a cavity r = 0.97 (inward). At eps 0.1 a
+  // coarse chord of the outer sphere dips ~0.1 inward and would cut the inner sphere.
+  const TriSurface sphere = load("sphere728.off");
+  TriSurface shell = sphere;
+  const int n = int(sphere.points.size());
+  for (const Vec3& p : sphere.points) shell.points.push_back(0.97 * p);
+  for (const auto& t : sphere.triangles) shell.triangles.push_back({t[0] + n, t[2] + n, t[1] + n});
+  const CoarsenResult r = coarsen(shell);
+  EXPECT_GE(r.repair_rounds, 1);
+  EXPECT_TRUE(self_intersections(r.surface).empty());
+  TriSurface verified = r.surface;
+  SurfaceStats stats;
+  ASSERT_NO_THROW(stats = verify_surface(verified, "coarse shell"));
+  EXPECT_EQ(stats.components, 2u);
+  EXPECT_EQ(stats.cavities, 1u);
+  EXPECT_LT(r.surface.points.size(), shell.points.size());
+}
