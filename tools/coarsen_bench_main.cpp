@@ -62,9 +62,9 @@ int main(int argc, char** argv) {
         const auto r = dthex::coarsen(input, options);
         const double cpu = cpu_seconds() - c0;
         std::printf("%s eps %g: %zu -> %zu vertices, %zu collapses, %zu swaps, %zu moves, %d repairs, "
-                    "%.3f s wall, %.3f s CPU\n",
+                    "%.3f s wall, %.3f s CPU, %zu feature edges, %zu corners\n",
                     argv[i], only, input.points.size(), r.surface.points.size(), r.collapses, r.swaps,
-                    r.smoothing_moves, r.repair_rounds, r.seconds, cpu);
+                    r.smoothing_moves, r.repair_rounds, r.seconds, cpu, r.feature_edges, r.feature_corners);
         continue;
       }
       const dthex::TriSurface input = load(argv[i]);
