@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: MIT
+// Curvature-driven coarsening of a closed triangle surface (DESIGN.md steps 2-5): the
+// DTHex Decimater modules driven by RevalidatingDecimaterT, with edge swaps, local
+// smoothing pulled back onto the input, and a self-intersection repair loop.
+#pragma once
+
+#include "core/features.h"
+#include "core/types.h"
+
+#include <cmath>
+#include <functional>
+
+namespace dthex {
+
+struct CoarsenOptions {
+  double eps = 0.1;                  //!< coarsening factor (sagitta / radius), (0, 1]
+  double h_min = 0, h_max = 0;       //!< size bounds; 0 = automatic (see CurvatureSizingOptions)
+  double gradation = 0.5;            //!< |h(A) - h(B)| <= gradation |AB|
+  double max_normalized_length = std::sqrt(2.0);  //!< bound for every new edge
+  double max_normal_deviation_deg = 45.0;         //!< per collapse / smoothing move
+  double min_shape = 0.2;            //!< shape floor for new triangles (Verdict)
+  double swap_max_dihedral_deg = 10.0;            //!< swaps only between near-coplanar triangles
+  double smoothing_c1 = 0.5;         //!< area weight of local smoothing (c2 = 1 - c1)
+  double feature_angle_deg = kDefaultFeatureAngleDeg;
+  bool edge_swap = true, local_smoothing = true, global_smoothing = false;
+  //! Self-intersections found in the result are repaired by re-running with the sizing
+  //! halved around them (the last extra run keeps the input vertices there instead); at
+  //! most this many extra runs.
+  int max_repair_rounds = 4;
+  //! Called with a rough completed fraction in [0, 1].
+  std::function<void(double)> progress;
+};
+
+struct CoarsenResult {
+  TriSurface surface;             //!< closed, oriented like the input, vertices on the input
+  std::vector<double> sizes;      //!< sizing field at each coarse vertex
+  size_t input_vertices = 0;
+  size_t collapses = 0, swaps = 0, smoothing_moves = 0;
+  //! 0 when global smoothing was off, or undone because it made the surface self-intersect.
+  size_t global_smoothing_iterations = 0;
+  size_t feature_edges = 0, feature_corners = 0;  //!< on the input
+  int repair_rounds = 0;          //!< extra runs needed to remove self-intersections
+  double h_min = 0, h_max = 0;    //!< bounds actually used
+  double seconds = 0;             //!< wall time of coarsen()
+};
+
+//! Coarsens a verified closed surface. Throws MeshingError if the result still
+//! self-intersects after max_repair_rounds (it never returns an intersecting surface).
+CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options = {});
+
+struct GlobalSmoothingOptions {
+  size_t max_iterations = 100;
+  //! Stop when no vertex moved more than tolerance x the input's bounding-box diagonal.
+  double tolerance = 1e-4;
+  double max_normal_deviation_deg = 45.0;
+  double feature_angle_deg = kDefaultFeatureAngleDeg;
+};
+
+//! Area-weighted centroid pull over the whole coarse surface, each move re-projected onto
+//! the input and rejected if it flips a normal or lowers the worst incident shape; feature
+//! vertices stay. Iterates to the tolerance. If sizes (per coarse vertex) is non-empty it
+//! is updated from input_sizes (per input vertex) at the projected points. Returns the
+//! number of iterations run.
+size_t global_smoothing(TriSurface& coarse, const TriSurface& input, const GlobalSmoothingOptions& options = {},
+                        std::vector<double>* sizes = nullptr, const std::vector<double>* input_sizes = nullptr);
+
+//! Pairs (a < b) of triangles that intersect other than in shared vertices/edges
+//! (non-coplanar crossings, and folded triangles on a shared edge).
+std::vector<std::array<int, 2>> self_intersections(const TriSurface& surface);
+
+}  // namespace dthex

@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: MIT
+#include "core/features.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include <Eigen/Geometry>
+
+namespace dthex {
+namespace {
+
+void finish(Features& features, size_t n_vertices) {
+  std::sort(features.edges.begin(), features.edges.end());
+  features.feature_valence.assign(n_vertices, 0);
+  for (const auto& e : features.edges) {
+    ++features.feature_valence[size_t(e[0])];
+    ++features.feature_valence[size_t(e[1])];
+  }
+  for (size_t v = 0; v < n_vertices; ++v)
+    if (features.feature_valence[v] == 1 || features.feature_valence[v] > 2) features.corners.push_back(int(v));
+}
+
+}  // namespace
+
+Features detect_features(const TriSurface& surface, double angle_deg) {
+  const double cos_limit = std::cos(angle_deg * M_PI / 180.0);
+  std::vector<Vec3> normals;
+  normals.reserve(surface.triangles.size());
+  for (const auto& t : surface.triangles) {
+    const Vec3 n = (surface.points[size_t(t[1])] - surface.points[size_t(t[0])])
+                       .cross(surface.points[size_t(t[2])] - surface.points[size_t(t[0])]);
+    const double len = n.norm();
+    normals.push_back(len > 0 ? Vec3(n / len) : Vec3::Zero());
+  }
+  // Edge key (a < b) -> up to two incident triangles and a use count.
+  struct EdgeUse {
+    int first = -1, second = -1, count = 0;
+  };
+  std::unordered_map<uint64_t, EdgeUse> uses;
+  uses.reserve(surface.triangles.size() * 2);
+  for (size_t f = 0; f < surface.triangles.size(); ++f) {
+    const auto& t = surface.triangles[f];
+    for (int k = 0; k < 3; ++k) {
+      const int a = std::min(t[size_t(k)], t[size_t((k + 1) % 3)]);
+      const int b = std::max(t[size_t(k)], t[size_t((k + 1) % 3)]);
+      EdgeUse& use = uses[(uint64_t(uint32_t(a)) << 32) | uint32_t(b)];
+      (use.count == 0 ? use.first : use.second) = int(f);
+      ++use.count;
+    }
+  }
+  Features features;
+  for (const auto& [key, use] : uses) {
+    const bool sharp = use.count != 2 || normals[size_t(use.first)].dot(normals[size_t(use.second)]) < cos_limit;
+    if (sharp) features.edges.push_back({int(key >> 32), int(key & 0xffffffffu)});
+  }
+  finish(features, surface.points.size());
+  return features;
+}
+
+std::vector<std::array<int, 2>> feature_edges(const TriSurface& surface, double angle_deg) {
+  return detect_features(surface, angle_deg).edges;
+}
+
+Features mark_features(SurfaceMesh& mesh, double angle_deg) {
+  const double cos_limit = std::cos(angle_deg * M_PI / 180.0);
+  Features features;
+  for (auto e : mesh.edges()) {
+    if (mesh.status(e).deleted()) continue;
+    bool sharp = mesh.is_boundary(e);
+    if (!sharp) {
+      const auto n0 = mesh.calc_face_normal(mesh.face_handle(mesh.halfedge_handle(e, 0)));
+      const auto n1 = mesh.calc_face_normal(mesh.face_handle(mesh.halfedge_handle(e, 1)));
+      sharp = (n0 | n1) < cos_limit;
+    }
+    mesh.status(e).set_feature(sharp);
+    if (sharp) {
+      const int a = mesh.to_vertex_handle(mesh.halfedge_handle(e, 0)).idx();
+      const int b = mesh.to_vertex_handle(mesh.halfedge_handle(e, 1)).idx();
+      features.edges.push_back({std::min(a, b), std::max(a, b)});
+    }
+  }
+  finish(features, mesh.n_vertices());
+  for (auto v : mesh.vertices()) {
+    const int valence = features.feature_valence[size_t(v.idx())];
+    mesh.status(v).set_feature(valence > 0);
+    mesh.status(v).set_locked(valence == 1 || valence > 2);
+  }
+  return features;
+}
+
+}  // namespace dthex

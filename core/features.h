@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: MIT
+// Feature lines of a triangle surface (DESIGN.md step 2): edges whose two triangles'
+// normals differ by more than an angle, and the corners where feature lines end or meet.
+#pragma once
+
+#include "core/surface_mesh.h"
+#include "core/types.h"
+
+#include <array>
+#include <vector>
+
+namespace dthex {
+
+//! Default feature angle (degrees between the two triangle normals of an edge, 0 for a flat
+//! edge). 60: organ and bone scans are smooth, and their staircase/noise creases mostly
+//! stay below it, while machined or cut edges (cube 90, cut faces) are caught.
+constexpr double kDefaultFeatureAngleDeg = 60.0;
+
+struct Features {
+  //! Feature edges as vertex pairs (a < b), sorted.
+  std::vector<std::array<int, 2>> edges;
+  //! Per vertex: number of incident feature edges.
+  std::vector<int> feature_valence;
+  //! Vertices with 1 or more than 2 feature edges (line ends and junctions), sorted.
+  std::vector<int> corners;
+};
+
+//! Features of a surface. An edge is a feature when the angle between its two triangles'
+//! normals exceeds angle_deg, or when it does not have exactly two triangles (border).
+Features detect_features(const TriSurface& surface, double angle_deg = kDefaultFeatureAngleDeg);
+
+//! Just the feature edges of detect_features (for projection onto the fine surface).
+std::vector<std::array<int, 2>> feature_edges(const TriSurface& surface, double angle_deg = kDefaultFeatureAngleDeg);
+
+//! Marks features on an OpenMesh mesh for the Decimater: edge and vertex status feature()
+//! on feature edges and their vertices, and locked() on corners (never removed). Clears
+//! the bits elsewhere. Returns what it marked, indexed like the mesh's vertices.
+Features mark_features(SurfaceMesh& mesh, double angle_deg = kDefaultFeatureAngleDeg);
+
+}  // namespace dthex
