@@ -1,0 +1,397 @@
+// SPDX-License-Identifier: MIT
+#include "core/untangle.h"
+
+#include "core/quality.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <numeric>
+
+namespace dthex {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using Mat38 = Eigen::Matrix<double, 3, 8>;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+//! The nine Jacobians Verdict's scaled Jacobian looks at (8 corners, then the centre), each
+//! as 3 rows of coefficients over the 8 nodes: column c of A_k is sum_j C_k(c, j) x_j.
+//! The centre frame is divided by 4 so that a unit cube gives the identity everywhere.
+std::array<Mat38, 9> make_frames() {
+  constexpr int corners[8][4] = {{0, 1, 3, 4}, {1, 2, 0, 5}, {2, 3, 1, 6}, {3, 0, 2, 7},
+                                 {4, 7, 5, 0}, {5, 4, 6, 1}, {6, 5, 7, 2}, {7, 6, 4, 3}};
+  std::array<Mat38, 9> frames;
+  for (int k = 0; k < 8; ++k) {
+    frames[size_t(k)].setZero();
+    for (int c = 0; c < 3; ++c) {
+      frames[size_t(k)](c, corners[k][c + 1]) += 1;
+      frames[size_t(k)](c, corners[k][0]) -= 1;
+    }
+  }
+  Mat38& centre = frames[8];
+  centre.setZero();
+  const int xi[8] = {-1, 1, 1, -1, -1, 1, 1, -1}, eta[8] = {-1, -1, 1, 1, -1, -1, 1, 1},
+            zeta[8] = {-1, -1, -1, -1, 1, 1, 1, 1};
+  for (int j = 0; j < 8; ++j) {
+    centre(0, j) = 0.25 * xi[j];
+    centre(1, j) = 0.25 * eta[j];
+    centre(2, j) = 0.25 * zeta[j];
+  }
+  return frames;
+}
+
+// Garanzha's regularized determinant chi(D, eps) = (D + sqrt(eps^2 + D^2)) / 2, stable for D <= 0,
+// and its derivative chi / sqrt(eps^2 + D^2).
+inline double chi(double d, double eps) {
+  const double root = std::sqrt(eps * eps + d * d);
+  return d > 0 ? 0.5 * (d + root) : 0.5 * eps * eps / (root - d);
+}
+inline double chi_derivative(double d, double eps) { return chi(d, eps) / std::sqrt(eps * eps + d * d); }
+
+// VTK hex faces, outward for a positive hex.
+constexpr int kHexFaces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+
+//! Limited-memory BFGS with Armijo backtracking. `f(z, grad)` returns the energy, or +inf
+//! for a point that must not be entered. Returns the number of iterations done.
+template <class Energy>
+int minimize_lbfgs(Eigen::VectorXd& z, Energy&& f, int max_iterations, Clock::time_point deadline, bool& timed_out) {
+  const int memory = 8;
+  Eigen::VectorXd g(z.size()), g_new(z.size()), z_new(z.size()), d(z.size());
+  double fz = f(z, g);
+  if (!std::isfinite(fz)) return 0;
+  std::deque<Eigen::VectorXd> s_hist, y_hist;
+  std::deque<double> rho_hist;
+  int it = 0;
+  for (; it < max_iterations; ++it) {
+    if (Clock::now() > deadline) {
+      timed_out = true;
+      break;
+    }
+    // Two-loop recursion.
+    d = -g;
+    std::vector<double> alpha(s_hist.size());
+    for (int i = int(s_hist.size()) - 1; i >= 0; --i) {
+      alpha[size_t(i)] = rho_hist[size_t(i)] * s_hist[size_t(i)].dot(d);
+      d -= alpha[size_t(i)] * y_hist[size_t(i)];
+    }
+    if (!s_hist.empty()) d *= s_hist.back().dot(y_hist.back()) / y_hist.back().squaredNorm();
+    for (size_t i = 0; i < s_hist.size(); ++i) {
+      const double beta = rho_hist[i] * y_hist[i].dot(d);
+      d += (alpha[i] - beta) * s_hist[i];
+    }
+    double slope = g.dot(d);
+    if (s_hist.empty() || slope >= 0) {
+      // Steepest descent, capped at a tenth of the local edge length (variables are scaled by it).
+      d = -g;
+      const double biggest = d.lpNorm<Eigen::Infinity>();
+      if (biggest <= 0) break;
+      d *= std::min(1.0, 0.1 / biggest);
+      slope = g.dot(d);
+      s_hist.clear(), y_hist.clear(), rho_hist.clear();
+    }
+    double step = 1.0, f_new = kInf;
+    bool accepted = false;
+    for (int tries = 0; tries < 40; ++tries, step *= 0.5) {
+      z_new = z + step * d;
+      f_new = f(z_new, g_new);
+      if (std::isfinite(f_new) && f_new <= fz + 1e-4 * step * slope) {
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted) break;
+    const Eigen::VectorXd s = z_new - z, y = g_new - g;
+    const double sy = s.dot(y);
+    if (sy > 1e-12 * s.norm() * y.norm()) {
+      s_hist.push_back(s), y_hist.push_back(y), rho_hist.push_back(1.0 / sy);
+      if (int(s_hist.size()) > memory) s_hist.pop_front(), y_hist.pop_front(), rho_hist.pop_front();
+    }
+    const double decrease = fz - f_new;
+    z.swap(z_new);
+    g.swap(g_new);
+    fz = f_new;
+    if (decrease <= 1e-10 * std::max(1.0, std::abs(fz)) || g.lpNorm<Eigen::Infinity>() < 1e-9) {
+      ++it;
+      break;
+    }
+  }
+  return it;
+}
+
+class Untangler {
+ public:
+  Untangler(HexMesh& mesh, const TriangleBvh& bvh, const UntangleOptions& options)
+      : mesh_(mesh), bvh_(bvh), options_(options), frames_(make_frames()) {
+    deadline_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                   std::chrono::duration<double>(options.time_limit_seconds));
+    const size_t n_nodes = mesh.nodes.size();
+    // Boundary quads: faces used by one hex only.
+    std::vector<std::pair<std::array<int, 4>, std::array<int, 4>>> faces;
+    faces.reserve(mesh.hexes.size() * 6);
+    for (const auto& h : mesh.hexes)
+      for (const auto& f : kHexFaces) {
+        std::array<int, 4> quad = {h[size_t(f[0])], h[size_t(f[1])], h[size_t(f[2])], h[size_t(f[3])]};
+        std::array<int, 4> key = quad;
+        std::sort(key.begin(), key.end());
+        faces.emplace_back(key, quad);
+      }
+    std::sort(faces.begin(), faces.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    is_boundary_.assign(n_nodes, false);
+    for (size_t v = 0; v < n_nodes; ++v) is_boundary_[v] = mesh.is_boundary_node(int(v));
+    for (size_t i = 0; i < faces.size();) {
+      size_t j = i + 1;
+      while (j < faces.size() && faces[j].first == faces[i].first) ++j;
+      if (j - i == 1) {
+        boundary_quads_.push_back(faces[i].second);
+        for (int v : faces[i].second) is_boundary_[size_t(v)] = true;
+      }
+      i = j;
+    }
+    // Per-hex reference size (mean edge length) and per-node variable scale.
+    hex_size_.resize(mesh.hexes.size());
+    node_scale_.assign(n_nodes, 0.0);
+    std::vector<int> count(n_nodes, 0);
+    constexpr int edges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
+                                  {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+    for (size_t h = 0; h < mesh.hexes.size(); ++h) {
+      double sum = 0;
+      for (const auto& e : edges) sum += (node(h, e[0]) - node(h, e[1])).norm();
+      hex_size_[h] = std::max(sum / 12.0, 1e-300);
+      for (int v : mesh.hexes[h]) node_scale_[size_t(v)] += hex_size_[h], ++count[size_t(v)];
+    }
+    for (size_t v = 0; v < n_nodes; ++v) node_scale_[v] = count[v] ? node_scale_[v] / count[v] : 1.0;
+    node_hexes_.resize(n_nodes);
+    for (size_t h = 0; h < mesh.hexes.size(); ++h)
+      for (int v : mesh.hexes[h]) node_hexes_[size_t(v)].push_back(int(h));
+  }
+
+  UntangleReport run() {
+    const auto start = Clock::now();
+    UntangleReport report;
+    report.inverted_before = measure_hex_quality(mesh_).inverted;
+
+    std::vector<char> sliding(mesh_.nodes.size(), 0);
+    run_phase(sliding, report);
+    std::vector<char> ever_sliding(mesh_.nodes.size(), 0);
+    for (int phase = 0; phase < options_.max_boundary_phases && options_.free_boundary_below_scaled_jacobian >= 0 &&
+                        !report.time_limit_reached;
+         ++phase) {
+      const HexQuality q = measure_hex_quality(mesh_);
+      std::vector<char> bad_node(mesh_.nodes.size(), 0);
+      bool any = false;
+      for (size_t h = 0; h < mesh_.hexes.size(); ++h)
+        if (q.scaled_jacobian[h] < options_.free_boundary_below_scaled_jacobian) {
+          for (int v : mesh_.hexes[h]) bad_node[size_t(v)] = 1;
+          any = true;
+        }
+      if (!any) break;
+      // Boundary nodes of the poor hexes and of the hexes around them.
+      std::fill(sliding.begin(), sliding.end(), 0);
+      size_t n_sliding = 0;
+      for (size_t h = 0; h < mesh_.hexes.size(); ++h) {
+        bool near = false;
+        for (int v : mesh_.hexes[h]) near = near || bad_node[size_t(v)];
+        if (!near) continue;
+        for (int v : mesh_.hexes[h])
+          if (is_boundary_[size_t(v)] && !sliding[size_t(v)]) sliding[size_t(v)] = 1, ++n_sliding, ever_sliding[size_t(v)] = 1;
+      }
+      if (n_sliding == 0) break;
+      const double before = q.scaled_jacobian_stats.min;
+      run_phase(sliding, report);
+      if (measure_hex_quality(mesh_).scaled_jacobian_stats.min <= before + 1e-3) break;  // no progress
+    }
+    report.sliding_boundary_nodes = size_t(std::count(ever_sliding.begin(), ever_sliding.end(), 1));
+
+    const HexQuality q = measure_hex_quality(mesh_);
+    report.inverted_after = q.inverted;
+    report.min_scaled_jacobian = q.scaled_jacobian_stats.min;
+    report.avg_shape = q.shape_stats.avg;
+    report.min_shape = q.shape_stats.min;
+    std::vector<size_t> order(mesh_.hexes.size());
+    std::iota(order.begin(), order.end(), size_t(0));
+    const size_t n_worst = std::min(options_.report_worst, order.size());
+    std::partial_sort(order.begin(), order.begin() + long(n_worst), order.end(),
+                      [&](size_t a, size_t b) { return q.scaled_jacobian[a] < q.scaled_jacobian[b]; });
+    report.worst_hexes.assign(order.begin(), order.begin() + long(n_worst));
+    report.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    return report;
+  }
+
+ private:
+  const Vec3& node(size_t h, int i) const { return mesh_.nodes[size_t(mesh_.hexes[h][size_t(i)])]; }
+
+  // One epsilon-continuation run: interior nodes free, `sliding` boundary nodes move in their
+  // tangent plane and go back onto the surface after every round.
+  void run_phase(const std::vector<char>& sliding, UntangleReport& report) {
+    const size_t n_nodes = mesh_.nodes.size();
+    var_offset_.assign(n_nodes, -1);
+    int n_vars = 0;
+    for (size_t v = 0; v < n_nodes; ++v) {
+      if (!is_boundary_[v]) var_offset_[v] = n_vars, n_vars += 3;
+      else if (sliding[v]) var_offset_[v] = n_vars, n_vars += 2;
+    }
+    if (n_vars == 0) return;
+    active_hexes_.clear();
+    for (size_t h = 0; h < mesh_.hexes.size(); ++h) {
+      bool movable = false;
+      for (int v : mesh_.hexes[h]) movable = movable || var_offset_[size_t(v)] >= 0;
+      if (movable) active_hexes_.push_back(h);
+    }
+    rebase(sliding);
+    Eigen::VectorXd z = Eigen::VectorXd::Zero(n_vars), grad(n_vars);
+    double detmin = 0;
+    evaluate(z, nullptr, 1.0, &detmin);
+    double eps = detmin > 0 ? 1e-10 : std::sqrt(1e-12 + 0.04 * detmin * detmin);
+    bool any_sliding = std::find(sliding.begin(), sliding.end(), 1) != sliding.end();
+    for (int round = 0; round < options_.max_rounds; ++round) {
+      ++report.rounds;
+      const bool keep_valid = detmin > 0;
+      auto energy = [&](const Eigen::VectorXd& zz, Eigen::VectorXd& g) {
+        double dm = 0;
+        const double e = evaluate(zz, &g, eps, &dm);
+        return keep_valid && dm <= 0 ? kInf : e;
+      };
+      const double e_prev = evaluate(z, nullptr, eps, &detmin);
+      bool timed_out = false;
+      minimize_lbfgs(z, energy, options_.max_lbfgs_iterations, deadline_, timed_out);
+      apply(z);
+      if (any_sliding) {
+        reproject(sliding);
+        rebase(sliding);
+        z.setZero();
+      }
+      const double e = evaluate(z, nullptr, eps, &detmin);
+      if (timed_out) {
+        report.time_limit_reached = true;
+        break;
+      }
+      const double sigma = std::max(1.0 - e / e_prev, 0.1);
+      const double mu = (1.0 - sigma) * chi(detmin, eps);
+      eps = detmin < mu ? 2.0 * std::sqrt(mu * (mu - detmin)) : 1e-10;
+      if (detmin > 0 && std::abs(e_prev - e) <= 1e-5 * std::abs(e)) break;
+    }
+    apply(z);
+  }
+
+  // Base positions and tangent frames of the variables: x = base + scale * (z or z0 t1 + z1 t2).
+  void rebase(const std::vector<char>& sliding) {
+    base_ = mesh_.nodes;
+    tangent1_.assign(mesh_.nodes.size(), Vec3::Zero());
+    tangent2_.assign(mesh_.nodes.size(), Vec3::Zero());
+    std::vector<Vec3> normal(mesh_.nodes.size(), Vec3::Zero());
+    for (const auto& q : boundary_quads_) {
+      const Vec3 n = (mesh_.nodes[size_t(q[2])] - mesh_.nodes[size_t(q[0])])
+                         .cross(mesh_.nodes[size_t(q[3])] - mesh_.nodes[size_t(q[1])]);
+      for (int v : q) normal[size_t(v)] += n;
+    }
+    for (size_t v = 0; v < mesh_.nodes.size(); ++v) {
+      if (!sliding[v] || !is_boundary_[v]) continue;
+      Vec3 n = normal[v];
+      if (n.norm() <= 0) n = Vec3::UnitZ();
+      n.normalize();
+      const Vec3 helper = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+      tangent1_[v] = n.cross(helper).normalized();
+      tangent2_[v] = n.cross(tangent1_[v]);
+    }
+  }
+
+  Vec3 position(const Eigen::VectorXd& z, size_t v) const {
+    const int o = var_offset_[v];
+    if (o < 0) return base_[v];
+    if (!is_boundary_[v]) return base_[v] + node_scale_[v] * Vec3(z[o], z[o + 1], z[o + 2]);
+    return base_[v] + node_scale_[v] * (z[o] * tangent1_[v] + z[o + 1] * tangent2_[v]);
+  }
+
+  void apply(const Eigen::VectorXd& z) {
+    for (size_t v = 0; v < mesh_.nodes.size(); ++v)
+      if (var_offset_[v] >= 0) mesh_.nodes[v] = position(z, v);
+  }
+
+  // Sliding nodes back onto the surface; a node whose closest point is further than it moved
+  // in the round (it would cross to another sheet of the surface) goes back where it was.
+  void reproject(const std::vector<char>& sliding) {
+    for (size_t v = 0; v < mesh_.nodes.size(); ++v) {
+      if (!sliding[v] || !is_boundary_[v]) continue;
+      const double moved = (mesh_.nodes[v] - base_[v]).norm();
+      const TriangleBvh::ClosestPoint cp = bvh_.closest_point(mesh_.nodes[v]);
+      if (cp.triangle >= 0 && std::sqrt(cp.distance_sq) <= moved + 1e-9 * node_scale_[v])
+        mesh_.nodes[v] = cp.point;
+      else
+        mesh_.nodes[v] = base_[v];
+    }
+  }
+
+  //! Energy over the active hexes, its gradient in z (if grad), and the smallest normalized
+  //! determinant among them.
+  double evaluate(const Eigen::VectorXd& z, Eigen::VectorXd* grad, double eps, double* detmin) {
+    const double theta = options_.theta;
+    if (grad) grad->setZero(z.size());
+    double total = 0, dmin = kInf;
+    Mat38 x, gx;
+    for (size_t h : active_hexes_) {
+      const auto& hex = mesh_.hexes[h];
+      for (int j = 0; j < 8; ++j) x.col(j) = position(z, size_t(hex[size_t(j)]));
+      const double inv_size = 1.0 / hex_size_[h];
+      gx.setZero();
+      for (const Mat38& frame : frames_) {
+        const Eigen::Matrix3d jac = x * frame.transpose() * inv_size;
+        Eigen::Matrix3d cof;
+        cof.col(0) = jac.col(1).cross(jac.col(2));
+        cof.col(1) = jac.col(2).cross(jac.col(0));
+        cof.col(2) = jac.col(0).cross(jac.col(1));
+        const double det = jac.col(0).dot(cof.col(0));
+        dmin = std::min(dmin, det);
+        const double c = chi(det, eps), dc = chi_derivative(det, eps);
+        const double frob = jac.squaredNorm();
+        const double c23 = std::pow(c, -2.0 / 3.0);
+        total += (1 - theta) * frob * c23 + theta * (1 + det * det) / c;
+        if (!grad) continue;
+        const double d_det = -(2.0 / 3.0) * (1 - theta) * frob * c23 / c * dc +
+                             theta * (2 * det / c - (1 + det * det) * dc / (c * c));
+        const Eigen::Matrix3d g = (2 * (1 - theta) * c23) * jac + d_det * cof;
+        gx.noalias() += g * frame * inv_size;
+      }
+      if (!grad) continue;
+      for (int j = 0; j < 8; ++j) {
+        const size_t v = size_t(hex[size_t(j)]);
+        const int o = var_offset_[v];
+        if (o < 0) continue;
+        const Vec3 gv = gx.col(j) * node_scale_[v];
+        if (!is_boundary_[v]) {
+          (*grad)[o] += gv.x(), (*grad)[o + 1] += gv.y(), (*grad)[o + 2] += gv.z();
+        } else {
+          (*grad)[o] += gv.dot(tangent1_[v]), (*grad)[o + 1] += gv.dot(tangent2_[v]);
+        }
+      }
+    }
+    if (detmin) *detmin = dmin;
+    return total;
+  }
+
+  HexMesh& mesh_;
+  const TriangleBvh& bvh_;
+  UntangleOptions options_;
+  std::array<Mat38, 9> frames_;
+  Clock::time_point deadline_;
+  std::vector<bool> is_boundary_;
+  std::vector<std::array<int, 4>> boundary_quads_;
+  std::vector<double> hex_size_, node_scale_;
+  std::vector<std::vector<int>> node_hexes_;
+  std::vector<int> var_offset_;
+  std::vector<size_t> active_hexes_;
+  std::vector<Vec3> base_, tangent1_, tangent2_;
+};
+
+}  // namespace
+
+UntangleReport untangle_and_smooth(HexMesh& mesh, const TriangleBvh& fine_bvh, const UntangleOptions& options) {
+  if (mesh.hexes.empty()) return {};
+  Untangler untangler(mesh, fine_bvh, options);
+  return untangler.run();
+}
+
+}  // namespace dthex
