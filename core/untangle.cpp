@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <deque>
 #include <limits>
 #include <numeric>
@@ -15,34 +17,9 @@ namespace dthex {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using Mat38 = Eigen::Matrix<double, 3, 8>;
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-//! The nine Jacobians Verdict's scaled Jacobian looks at (8 corners, then the centre), each
-//! as 3 rows of coefficients over the 8 nodes: column c of A_k is sum_j C_k(c, j) x_j.
-//! The centre frame is divided by 4 so that a unit cube gives the identity everywhere.
-std::array<Mat38, 9> make_frames() {
-  constexpr int corners[8][4] = {{0, 1, 3, 4}, {1, 2, 0, 5}, {2, 3, 1, 6}, {3, 0, 2, 7},
-                                 {4, 7, 5, 0}, {5, 4, 6, 1}, {6, 5, 7, 2}, {7, 6, 4, 3}};
-  std::array<Mat38, 9> frames;
-  for (int k = 0; k < 8; ++k) {
-    frames[size_t(k)].setZero();
-    for (int c = 0; c < 3; ++c) {
-      frames[size_t(k)](c, corners[k][c + 1]) += 1;
-      frames[size_t(k)](c, corners[k][0]) -= 1;
-    }
-  }
-  Mat38& centre = frames[8];
-  centre.setZero();
-  const int xi[8] = {-1, 1, 1, -1, -1, 1, 1, -1}, eta[8] = {-1, -1, 1, 1, -1, -1, 1, 1},
-            zeta[8] = {-1, -1, -1, -1, 1, 1, 1, 1};
-  for (int j = 0; j < 8; ++j) {
-    centre(0, j) = 0.25 * xi[j];
-    centre(1, j) = 0.25 * eta[j];
-    centre(2, j) = 0.25 * zeta[j];
-  }
-  return frames;
-}
+//! Below this many hexes (or nodes) a loop runs on one thread: waking threads costs more.
+constexpr long kParallelThreshold = 20000;
 
 // Garanzha's regularized determinant chi(D, eps) = (D + sqrt(eps^2 + D^2)) / 2, stable for D <= 0,
 // and its derivative chi / sqrt(eps^2 + D^2).
@@ -51,6 +28,34 @@ inline double chi(double d, double eps) {
   return d > 0 ? 0.5 * (d + root) : 0.5 * eps * eps / (root - d);
 }
 inline double chi_derivative(double d, double eps) { return chi(d, eps) / std::sqrt(eps * eps + d * d); }
+
+constexpr int kCornerFrames[8][4] = {{0, 1, 3, 4}, {1, 2, 0, 5}, {2, 3, 1, 6}, {3, 0, 2, 7},
+                                     {4, 7, 5, 0}, {5, 4, 6, 1}, {6, 5, 7, 2}, {7, 6, 4, 3}};
+constexpr double kCentreFrame[3][8] = {{-1, 1, 1, -1, -1, 1, 1, -1}, {-1, -1, 1, 1, -1, -1, 1, 1},
+                                       {-1, -1, -1, -1, 1, 1, 1, 1}};
+
+//! Garanzha's per-frame energy (1 - theta) |J|^2 / chi^(2/3) + theta (1 + det^2) / chi, and
+//! its gradient with respect to J when `gradient` is given.
+inline double frame_energy(const Eigen::Matrix3d& jac, double eps, double theta, Eigen::Matrix3d* gradient,
+                           double& det) {
+  Eigen::Matrix3d cof;
+  cof.col(0) = jac.col(1).cross(jac.col(2));
+  cof.col(1) = jac.col(2).cross(jac.col(0));
+  cof.col(2) = jac.col(0).cross(jac.col(1));
+  det = jac.col(0).dot(cof.col(0));
+  const double c = chi(det, eps);
+  const double frob = jac.squaredNorm();
+  const double cube_root = std::cbrt(c);
+  const double c23 = 1.0 / (cube_root * cube_root);
+  const double energy = (1 - theta) * frob * c23 + theta * (1 + det * det) / c;
+  if (gradient) {
+    const double dc = chi_derivative(det, eps);
+    const double d_det =
+        -(2.0 / 3.0) * (1 - theta) * frob * c23 / c * dc + theta * (2 * det / c - (1 + det * det) * dc / (c * c));
+    *gradient = (2 * (1 - theta) * c23) * jac + d_det * cof;
+  }
+  return energy;
+}
 
 // VTK hex faces, outward for a positive hex.
 constexpr int kHexFaces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
@@ -114,7 +119,7 @@ int minimize_lbfgs(Eigen::VectorXd& z, Energy&& f, int max_iterations, Clock::ti
     z.swap(z_new);
     g.swap(g_new);
     fz = f_new;
-    if (decrease <= 1e-10 * std::max(1.0, std::abs(fz)) || g.lpNorm<Eigen::Infinity>() < 1e-9) {
+    if (decrease <= 1e-7 * std::max(1.0, std::abs(fz)) || g.lpNorm<Eigen::Infinity>() < 1e-9) {
       ++it;
       break;
     }
@@ -125,7 +130,7 @@ int minimize_lbfgs(Eigen::VectorXd& z, Energy&& f, int max_iterations, Clock::ti
 class Untangler {
  public:
   Untangler(HexMesh& mesh, const TriangleBvh& bvh, const UntangleOptions& options)
-      : mesh_(mesh), bvh_(bvh), options_(options), frames_(make_frames()) {
+      : mesh_(mesh), bvh_(bvh), options_(options) {
     deadline_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                    std::chrono::duration<double>(options.time_limit_seconds));
     const size_t n_nodes = mesh.nodes.size();
@@ -174,34 +179,55 @@ class Untangler {
     UntangleReport report;
     report.inverted_before = measure_hex_quality(mesh_).inverted;
 
-    std::vector<char> sliding(mesh_.nodes.size(), 0);
-    run_phase(sliding, report);
-    std::vector<char> ever_sliding(mesh_.nodes.size(), 0);
-    for (int phase = 0; phase < options_.max_boundary_phases && options_.free_boundary_below_scaled_jacobian >= 0 &&
-                        !report.time_limit_reached;
-         ++phase) {
+    const size_t n_nodes = mesh_.nodes.size();
+    std::vector<char> ever_sliding(n_nodes, 0);
+    // Local repair: nodes within a few hex rings of every hex below the target move; with
+    // `slide` the boundary nodes among them slide on the surface too. True if it ran.
+    auto repair = [&](double threshold, bool slide) {
       const HexQuality q = measure_hex_quality(mesh_);
-      std::vector<char> bad_node(mesh_.nodes.size(), 0);
+      std::vector<char> region(n_nodes, 0);
       bool any = false;
       for (size_t h = 0; h < mesh_.hexes.size(); ++h)
-        if (q.scaled_jacobian[h] < options_.free_boundary_below_scaled_jacobian) {
-          for (int v : mesh_.hexes[h]) bad_node[size_t(v)] = 1;
+        if (q.scaled_jacobian[h] < threshold) {
           any = true;
+          for (int v : mesh_.hexes[h]) region[size_t(v)] = 1;
         }
-      if (!any) break;
-      // Boundary nodes of the poor hexes and of the hexes around them.
-      std::fill(sliding.begin(), sliding.end(), 0);
-      size_t n_sliding = 0;
-      for (size_t h = 0; h < mesh_.hexes.size(); ++h) {
-        bool near = false;
-        for (int v : mesh_.hexes[h]) near = near || bad_node[size_t(v)];
-        if (!near) continue;
-        for (int v : mesh_.hexes[h])
-          if (is_boundary_[size_t(v)] && !sliding[size_t(v)]) sliding[size_t(v)] = 1, ++n_sliding, ever_sliding[size_t(v)] = 1;
+      if (!any) return false;
+      for (int ring = 0; ring < options_.region_rings; ++ring) {
+        std::vector<char> grown = region;
+        for (const auto& hex : mesh_.hexes) {
+          bool touches = false;
+          for (int v : hex) touches = touches || region[size_t(v)];
+          if (touches)
+            for (int v : hex) grown[size_t(v)] = 1;
+        }
+        region.swap(grown);
       }
-      if (n_sliding == 0) break;
-      const double before = q.scaled_jacobian_stats.min;
-      run_phase(sliding, report);
+      std::vector<char> interior(n_nodes, 0), sliding(n_nodes, 0);
+      for (size_t v = 0; v < n_nodes; ++v) {
+        interior[v] = region[v] && !is_boundary_[v];
+        sliding[v] = slide && region[v] && is_boundary_[v];
+        if (sliding[v]) ever_sliding[v] = 1;
+      }
+      run_phase(interior, sliding, options_.max_rounds, options_.max_lbfgs_iterations, report);
+      return true;
+    };
+    const std::vector<char> all_interior = [&] {
+      std::vector<char> all(n_nodes, 0);
+      for (size_t v = 0; v < n_nodes; ++v) all[v] = !is_boundary_[v];
+      return all;
+    }();
+    const std::vector<char> none(n_nodes, 0);
+
+    constexpr double kInverted = 1e-6;  // with a margin: Verdict calls a hex inverted at SJ <= 0
+    repair(kInverted, false);
+    if (options_.smoothing_iterations > 0 && !report.time_limit_reached)
+      run_phase(all_interior, none, options_.smoothing_rounds, options_.smoothing_iterations, report);
+    if (!report.time_limit_reached) repair(options_.target_scaled_jacobian, false);
+    for (int phase = 0; phase < options_.max_boundary_phases && options_.slide_boundary && !report.time_limit_reached;
+         ++phase) {
+      const double before = measure_hex_quality(mesh_).scaled_jacobian_stats.min;
+      if (!repair(options_.target_scaled_jacobian, true)) break;
       if (measure_hex_quality(mesh_).scaled_jacobian_stats.min <= before + 1e-3) break;  // no progress
     }
     report.sliding_boundary_nodes = size_t(std::count(ever_sliding.begin(), ever_sliding.end(), 1));
@@ -226,28 +252,55 @@ class Untangler {
 
   // One epsilon-continuation run: interior nodes free, `sliding` boundary nodes move in their
   // tangent plane and go back onto the surface after every round.
-  void run_phase(const std::vector<char>& sliding, UntangleReport& report) {
+  void run_phase(const std::vector<char>& interior, const std::vector<char>& sliding, int max_rounds,
+                 int max_iterations, UntangleReport& report) {
     const size_t n_nodes = mesh_.nodes.size();
     var_offset_.assign(n_nodes, -1);
     int n_vars = 0;
     for (size_t v = 0; v < n_nodes; ++v) {
-      if (!is_boundary_[v]) var_offset_[v] = n_vars, n_vars += 3;
-      else if (sliding[v]) var_offset_[v] = n_vars, n_vars += 2;
+      if (interior[v] && !is_boundary_[v]) var_offset_[v] = n_vars, n_vars += 3;
+      else if (sliding[v] && is_boundary_[v]) var_offset_[v] = n_vars, n_vars += 2;
     }
     if (n_vars == 0) return;
+    // Only frames with a movable node enter the energy: the others are constant, and their
+    // determinant would pin detmin (and so epsilon) where no move can change it.
     active_hexes_.clear();
+    active_frames_.clear();
     for (size_t h = 0; h < mesh_.hexes.size(); ++h) {
-      bool movable = false;
-      for (int v : mesh_.hexes[h]) movable = movable || var_offset_[size_t(v)] >= 0;
-      if (movable) active_hexes_.push_back(h);
+      unsigned mask = 0;
+      auto movable = [&](int j) { return var_offset_[size_t(mesh_.hexes[h][size_t(j)])] >= 0; };
+      for (int k = 0; k < 8; ++k)
+        for (int j : kCornerFrames[k])
+          if (movable(j)) mask |= 1u << k;
+      for (int j = 0; j < 8; ++j)
+        if (movable(j)) mask |= 1u << 8;  // the centre frame involves all 8 nodes
+      if (mask) active_hexes_.push_back(h), active_frames_.push_back(mask);
     }
+    movable_nodes_.clear();
+    std::vector<int> movable_index(n_nodes, -1);
+    for (size_t v = 0; v < n_nodes; ++v)
+      if (var_offset_[v] >= 0) movable_index[v] = int(movable_nodes_.size()), movable_nodes_.push_back(v);
+    incidence_start_.assign(movable_nodes_.size() + 1, 0);
+    for (size_t a = 0; a < active_hexes_.size(); ++a)
+      for (int v : mesh_.hexes[active_hexes_[a]])
+        if (movable_index[size_t(v)] >= 0) ++incidence_start_[size_t(movable_index[size_t(v)]) + 1];
+    for (size_t i = 0; i < movable_nodes_.size(); ++i) incidence_start_[i + 1] += incidence_start_[i];
+    incidence_.assign(size_t(incidence_start_.back()), 0);
+    std::vector<int> fill(incidence_start_.begin(), incidence_start_.end() - 1);
+    for (size_t a = 0; a < active_hexes_.size(); ++a)
+      for (size_t j = 0; j < 8; ++j) {
+        const int m = movable_index[size_t(mesh_.hexes[active_hexes_[a]][j])];
+        if (m >= 0) incidence_[size_t(fill[size_t(m)]++)] = int(a * 8 + j);
+      }
+    hex_gradient_.assign(active_hexes_.size() * 8, Vec3::Zero());
+    pos_.assign(n_nodes, Vec3::Zero());
     rebase(sliding);
     Eigen::VectorXd z = Eigen::VectorXd::Zero(n_vars), grad(n_vars);
     double detmin = 0;
     evaluate(z, nullptr, 1.0, &detmin);
     double eps = detmin > 0 ? 1e-10 : std::sqrt(1e-12 + 0.04 * detmin * detmin);
     bool any_sliding = std::find(sliding.begin(), sliding.end(), 1) != sliding.end();
-    for (int round = 0; round < options_.max_rounds; ++round) {
+    for (int round = 0; round < max_rounds; ++round) {
       ++report.rounds;
       const bool keep_valid = detmin > 0;
       auto energy = [&](const Eigen::VectorXd& zz, Eigen::VectorXd& g) {
@@ -257,7 +310,7 @@ class Untangler {
       };
       const double e_prev = evaluate(z, nullptr, eps, &detmin);
       bool timed_out = false;
-      minimize_lbfgs(z, energy, options_.max_lbfgs_iterations, deadline_, timed_out);
+      minimize_lbfgs(z, energy, max_iterations, deadline_, timed_out);
       apply(z);
       if (any_sliding) {
         reproject(sliding);
@@ -271,7 +324,11 @@ class Untangler {
       }
       const double sigma = std::max(1.0 - e / e_prev, 0.1);
       const double mu = (1.0 - sigma) * chi(detmin, eps);
-      eps = detmin < mu ? 2.0 * std::sqrt(mu * (mu - detmin)) : 1e-10;
+      // Garanzha's schedule while something is inverted; once every frame is valid the
+      // regularization has done its job and the energy becomes a barrier at once.
+      eps = detmin > 0 ? 1e-10 : detmin < mu ? 2.0 * std::sqrt(mu * (mu - detmin)) : 1e-10;
+      if (std::getenv("DTHEX_UNTANGLE_DEBUG"))
+        std::fprintf(stderr, "round %d: E %.6g -> %.6g detmin %.4g eps %.3g vars %ld\n", round, e_prev, e, detmin, eps, long(z.size()));
       if (detmin > 0 && std::abs(e_prev - e) <= 1e-5 * std::abs(e)) break;
     }
     apply(z);
@@ -329,42 +386,65 @@ class Untangler {
   //! determinant among them.
   double evaluate(const Eigen::VectorXd& z, Eigen::VectorXd* grad, double eps, double* detmin) {
     const double theta = options_.theta;
-    if (grad) grad->setZero(z.size());
+    const long n_nodes = long(mesh_.nodes.size());
+#pragma omp parallel for schedule(static) if (n_nodes > kParallelThreshold)
+    for (long v = 0; v < n_nodes; ++v) pos_[size_t(v)] = position(z, size_t(v));
+
     double total = 0, dmin = kInf;
-    Mat38 x, gx;
-    for (size_t h : active_hexes_) {
-      const auto& hex = mesh_.hexes[h];
-      for (int j = 0; j < 8; ++j) x.col(j) = position(z, size_t(hex[size_t(j)]));
-      const double inv_size = 1.0 / hex_size_[h];
-      gx.setZero();
-      for (const Mat38& frame : frames_) {
-        const Eigen::Matrix3d jac = x * frame.transpose() * inv_size;
-        Eigen::Matrix3d cof;
-        cof.col(0) = jac.col(1).cross(jac.col(2));
-        cof.col(1) = jac.col(2).cross(jac.col(0));
-        cof.col(2) = jac.col(0).cross(jac.col(1));
-        const double det = jac.col(0).dot(cof.col(0));
+    const long n_active = long(active_hexes_.size());
+#pragma omp parallel for schedule(static) reduction(+ : total) reduction(min : dmin) if (n_active > kParallelThreshold)
+    for (long a = 0; a < n_active; ++a) {
+      const auto& hex = mesh_.hexes[active_hexes_[size_t(a)]];
+      const unsigned mask = active_frames_[size_t(a)];
+      const double inv_size = 1.0 / hex_size_[active_hexes_[size_t(a)]];
+      std::array<Vec3, 8> x, g;
+      for (size_t j = 0; j < 8; ++j) x[j] = pos_[size_t(hex[j])], g[j].setZero();
+      Eigen::Matrix3d jac, dj;
+      for (int k = 0; k < 8; ++k) {
+        if (!(mask & (1u << k))) continue;
+        const int* c = kCornerFrames[k];
+        for (int i = 0; i < 3; ++i) jac.col(i) = (x[size_t(c[i + 1])] - x[size_t(c[0])]) * inv_size;
+        double det = 0;
+        total += frame_energy(jac, eps, theta, grad ? &dj : nullptr, det);
         dmin = std::min(dmin, det);
-        const double c = chi(det, eps), dc = chi_derivative(det, eps);
-        const double frob = jac.squaredNorm();
-        const double c23 = std::pow(c, -2.0 / 3.0);
-        total += (1 - theta) * frob * c23 + theta * (1 + det * det) / c;
         if (!grad) continue;
-        const double d_det = -(2.0 / 3.0) * (1 - theta) * frob * c23 / c * dc +
-                             theta * (2 * det / c - (1 + det * det) * dc / (c * c));
-        const Eigen::Matrix3d g = (2 * (1 - theta) * c23) * jac + d_det * cof;
-        gx.noalias() += g * frame * inv_size;
+        for (int i = 0; i < 3; ++i) {
+          const Vec3 gi = dj.col(i) * inv_size;
+          g[size_t(c[i + 1])] += gi;
+          g[size_t(c[0])] -= gi;
+        }
       }
-      if (!grad) continue;
-      for (int j = 0; j < 8; ++j) {
-        const size_t v = size_t(hex[size_t(j)]);
+      if (mask & (1u << 8)) {
+        jac.setZero();
+        for (size_t j = 0; j < 8; ++j)
+          for (int i = 0; i < 3; ++i) jac.col(i) += kCentreFrame[i][j] * x[j];
+        jac *= 0.25 * inv_size;
+        double det = 0;
+        total += frame_energy(jac, eps, theta, grad ? &dj : nullptr, det);
+        dmin = std::min(dmin, det);
+        if (grad)
+          for (size_t j = 0; j < 8; ++j)
+            g[j] += (0.25 * inv_size) * (kCentreFrame[0][j] * dj.col(0) + kCentreFrame[1][j] * dj.col(1) +
+                                         kCentreFrame[2][j] * dj.col(2));
+      }
+      if (grad)
+        for (size_t j = 0; j < 8; ++j) hex_gradient_[size_t(a) * 8 + j] = g[j];
+    }
+    if (grad) {
+      grad->setZero(z.size());
+      const long n_movable = long(movable_nodes_.size());
+#pragma omp parallel for schedule(static) if (n_movable > kParallelThreshold)
+      for (long i = 0; i < n_movable; ++i) {
+        const size_t v = movable_nodes_[size_t(i)];
+        Vec3 gv = Vec3::Zero();
+        for (int slot = incidence_start_[size_t(i)]; slot < incidence_start_[size_t(i) + 1]; ++slot)
+          gv += hex_gradient_[size_t(incidence_[size_t(slot)])];
+        gv *= node_scale_[v];
         const int o = var_offset_[v];
-        if (o < 0) continue;
-        const Vec3 gv = gx.col(j) * node_scale_[v];
         if (!is_boundary_[v]) {
-          (*grad)[o] += gv.x(), (*grad)[o + 1] += gv.y(), (*grad)[o + 2] += gv.z();
+          (*grad)[o] = gv.x(), (*grad)[o + 1] = gv.y(), (*grad)[o + 2] = gv.z();
         } else {
-          (*grad)[o] += gv.dot(tangent1_[v]), (*grad)[o + 1] += gv.dot(tangent2_[v]);
+          (*grad)[o] = gv.dot(tangent1_[v]), (*grad)[o + 1] = gv.dot(tangent2_[v]);
         }
       }
     }
@@ -375,7 +455,6 @@ class Untangler {
   HexMesh& mesh_;
   const TriangleBvh& bvh_;
   UntangleOptions options_;
-  std::array<Mat38, 9> frames_;
   Clock::time_point deadline_;
   std::vector<bool> is_boundary_;
   std::vector<std::array<int, 4>> boundary_quads_;
@@ -383,6 +462,10 @@ class Untangler {
   std::vector<std::vector<int>> node_hexes_;
   std::vector<int> var_offset_;
   std::vector<size_t> active_hexes_;
+  std::vector<unsigned> active_frames_;  //!< per active hex: bit k set if frame k can move
+  std::vector<size_t> movable_nodes_;
+  std::vector<int> incidence_start_, incidence_;  //!< per movable node: slots a * 8 + j in hex_gradient_
+  std::vector<Vec3> pos_, hex_gradient_;
   std::vector<Vec3> base_, tangent1_, tangent2_;
 };
 

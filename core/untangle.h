@@ -17,17 +17,25 @@ namespace dthex {
 struct UntangleOptions {
   //! Weight of the size term against the shape term of the energy (Garanzha's theta).
   double theta = 0.5;
-  //! Epsilon-continuation rounds per phase, and L-BFGS iterations per round.
-  int max_rounds = 40;
-  int max_lbfgs_iterations = 300;
-  //! A run stops (and reports what it reached) after this much wall time.
-  double time_limit_seconds = 120.0;
-  //! Boundary nodes stay fixed first. Then the boundary nodes of hexes whose scaled
-  //! Jacobian is below this value (and of their neighbours) slide tangentially and are
-  //! put back on the surface after every round. A negative value keeps the boundary fixed.
-  double free_boundary_below_scaled_jacobian = 0.3;
-  //! How many phases with a sliding boundary at most (each re-selects the nodes).
+  //! Hexes whose scaled Jacobian is below this are repaired locally: the nodes within
+  //! `region_rings` hex rings of them move, the rest of the mesh stays put.
+  double target_scaled_jacobian = 0.2;
+  int region_rings = 2;
+  //! Epsilon-continuation rounds per local repair, and L-BFGS iterations per round.
+  int max_rounds = 30;
+  int max_lbfgs_iterations = 200;
+  //! The global shape pass over every interior node: rounds and L-BFGS iterations per
+  //! round (0 iterations skips it). Once nothing is inverted it is a barrier: it never
+  //! re-inverts.
+  int smoothing_rounds = 2;
+  int smoothing_iterations = 150;
+  //! Where moving interior nodes is not enough, let the boundary nodes of the repair
+  //! region slide on the surface (tangent-plane moves, then back onto the surface), in up
+  //! to this many passes.
+  bool slide_boundary = true;
   int max_boundary_phases = 3;
+  //! The run stops (and reports what it reached) after this much wall time.
+  double time_limit_seconds = 120.0;
   //! Length of worst_hexes in the report.
   size_t report_worst = 10;
 };

@@ -74,7 +74,7 @@ TEST(Untangle, BoundaryNodesSlideOnTheSurface) {
 
   HexMesh fixed = mesh;
   UntangleOptions no_sliding;
-  no_sliding.free_boundary_below_scaled_jacobian = -1;
+  no_sliding.slide_boundary = false;
   EXPECT_GT(untangle_and_smooth(fixed, bvh, no_sliding).inverted_after, 0u);
 
   const UntangleReport report = untangle_and_smooth(mesh, bvh);
