@@ -20,6 +20,8 @@ using Clock = std::chrono::steady_clock;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 //! Below this many hexes (or nodes) a loop runs on one thread: waking threads costs more.
 constexpr long kParallelThreshold = 20000;
+//! How far (in local edge lengths) a boundary node may slide in one round.
+constexpr double kMaxSlidePerRound = 0.2;
 
 // Garanzha's regularized determinant chi(D, eps) = (D + sqrt(eps^2 + D^2)) / 2, stable for D <= 0,
 // and its derivative chi / sqrt(eps^2 + D^2).
@@ -151,7 +153,6 @@ class Untangler {
       size_t j = i + 1;
       while (j < faces.size() && faces[j].first == faces[i].first) ++j;
       if (j - i == 1) {
-        boundary_quads_.push_back(faces[i].second);
         for (int v : faces[i].second) is_boundary_[size_t(v)] = true;
       }
       i = j;
@@ -220,9 +221,15 @@ class Untangler {
     const std::vector<char> none(n_nodes, 0);
 
     constexpr double kInverted = 1e-6;  // with a margin: Verdict calls a hex inverted at SJ <= 0
+    // 1. Inverted hexes first, interior nodes only, then with the boundary sliding.
     repair(kInverted, false);
+    for (int phase = 0; phase < options_.max_boundary_phases && options_.slide_boundary && !report.time_limit_reached;
+         ++phase)
+      if (!repair(kInverted, true)) break;
+    // 2. Shape over the whole mesh (a barrier once nothing is inverted).
     if (options_.smoothing_iterations > 0 && !report.time_limit_reached)
       run_phase(all_interior, none, options_.smoothing_rounds, options_.smoothing_iterations, report);
+    // 3. What is still below the target, locally, the boundary sliding where it must.
     if (!report.time_limit_reached) repair(options_.target_scaled_jacobian, false);
     for (int phase = 0; phase < options_.max_boundary_phases && options_.slide_boundary && !report.time_limit_reached;
          ++phase) {
@@ -339,17 +346,19 @@ class Untangler {
     base_ = mesh_.nodes;
     tangent1_.assign(mesh_.nodes.size(), Vec3::Zero());
     tangent2_.assign(mesh_.nodes.size(), Vec3::Zero());
-    std::vector<Vec3> normal(mesh_.nodes.size(), Vec3::Zero());
-    for (const auto& q : boundary_quads_) {
-      const Vec3 n = (mesh_.nodes[size_t(q[2])] - mesh_.nodes[size_t(q[0])])
-                         .cross(mesh_.nodes[size_t(q[3])] - mesh_.nodes[size_t(q[1])]);
-      for (int v : q) normal[size_t(v)] += n;
-    }
+    const auto& points = bvh_.points();
+    const auto& triangles = bvh_.triangles();
     for (size_t v = 0; v < mesh_.nodes.size(); ++v) {
       if (!sliding[v] || !is_boundary_[v]) continue;
-      Vec3 n = normal[v];
-      if (n.norm() <= 0) n = Vec3::UnitZ();
-      n.normalize();
+      // The tangent plane of the fine surface where the node is (the hex faces around it
+      // may be folded, their normal is no guide).
+      const TriangleBvh::ClosestPoint cp = bvh_.closest_point(mesh_.nodes[v]);
+      Vec3 n = Vec3::UnitZ();
+      if (cp.triangle >= 0) {
+        const auto& t = triangles[size_t(cp.triangle)];
+        const Vec3 c = (points[size_t(t[1])] - points[size_t(t[0])]).cross(points[size_t(t[2])] - points[size_t(t[0])]);
+        if (c.norm() > 0) n = c.normalized();
+      }
       const Vec3 helper = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
       tangent1_[v] = n.cross(helper).normalized();
       tangent2_[v] = n.cross(tangent1_[v]);
@@ -373,7 +382,11 @@ class Untangler {
   void reproject(const std::vector<char>& sliding) {
     for (size_t v = 0; v < mesh_.nodes.size(); ++v) {
       if (!sliding[v] || !is_boundary_[v]) continue;
-      const double moved = (mesh_.nodes[v] - base_[v]).norm();
+      // At most a fraction of the local edge length per round: the tangent plane is a
+      // good guide only near where it was taken.
+      const double cap = kMaxSlidePerRound * node_scale_[v];
+      double moved = (mesh_.nodes[v] - base_[v]).norm();
+      if (moved > cap) mesh_.nodes[v] = base_[v] + (cap / moved) * (mesh_.nodes[v] - base_[v]), moved = cap;
       const TriangleBvh::ClosestPoint cp = bvh_.closest_point(mesh_.nodes[v]);
       if (cp.triangle >= 0 && std::sqrt(cp.distance_sq) <= moved + 1e-9 * node_scale_[v])
         mesh_.nodes[v] = cp.point;
@@ -457,7 +470,6 @@ class Untangler {
   UntangleOptions options_;
   Clock::time_point deadline_;
   std::vector<bool> is_boundary_;
-  std::vector<std::array<int, 4>> boundary_quads_;
   std::vector<double> hex_size_, node_scale_;
   std::vector<std::vector<int>> node_hexes_;
   std::vector<int> var_offset_;

@@ -22,8 +22,8 @@ struct UntangleOptions {
   double target_scaled_jacobian = 0.2;
   int region_rings = 2;
   //! Epsilon-continuation rounds per local repair, and L-BFGS iterations per round.
-  int max_rounds = 30;
-  int max_lbfgs_iterations = 200;
+  int max_rounds = 20;
+  int max_lbfgs_iterations = 100;
   //! The global shape pass over every interior node: rounds and L-BFGS iterations per
   //! round (0 iterations skips it). Once nothing is inverted it is a barrier: it never
   //! re-inverts.
