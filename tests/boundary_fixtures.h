@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Small procedural hex meshes for the projection and untangling tests: a structured block,
-// a THex of a star-shaped coarse surface (the icosahedron around its centre, as in the
-// paper's sphere case), dicing, and labelling of boundary nodes with their coarse facet.
+// Small procedural meshes for the projection and untangling tests: a structured hex block,
+// a subdivided box surface, the tets of a star-shaped surface around its centre (the paper's
+// sphere case), and labelling of boundary nodes with their coarse facet.
 #pragma once
 
 #include "core/types.h"
@@ -109,64 +109,21 @@ inline void label_boundary(HexMesh& m, const TriSurface& coarse) {
   }
 }
 
-//! THex of the cone of a star-shaped closed surface over `centre`: one tet per triangle,
-//! four hexes per tet, nodes shared by their defining vertex sets.
-inline HexMesh thex_star(const TriSurface& s, const Vec3& centre) {
-  HexMesh m;
-  std::map<std::vector<int>, int> index;
-  std::vector<Vec3> pts = s.points;
-  pts.push_back(centre);
-  const int c = int(pts.size()) - 1;
-  auto node = [&](std::vector<int> ids) {
-    std::sort(ids.begin(), ids.end());
-    auto it = index.find(ids);
-    if (it != index.end()) return it->second;
-    Vec3 p = Vec3::Zero();
-    for (int i : ids) p += pts[size_t(i)];
-    m.nodes.push_back(p / double(ids.size()));
-    return index[ids] = int(m.nodes.size()) - 1;
-  };
-  for (const auto& t : s.triangles) {
-    // Outward triangle (a, b, c) and the centre inside: (b, a, c, centre) is positive.
-    const std::array<int, 4> tet = {t[1], t[0], t[2], c};
-    const int perms[4][4] = {{0, 1, 2, 3}, {1, 2, 0, 3}, {2, 0, 1, 3}, {3, 1, 0, 2}};
-    for (const auto& p : perms) {
-      const int a = tet[size_t(p[0])], b = tet[size_t(p[1])], cc = tet[size_t(p[2])], d = tet[size_t(p[3])];
-      m.hexes.push_back({node({a}), node({a, b}), node({a, b, cc}), node({a, cc}), node({a, d}), node({a, b, d}),
-                         node({a, b, cc, d}), node({a, cc, d})});
-    }
+//! The tets of a star-shaped closed surface around `centre` (one per triangle), positively
+//! oriented, with the surface triangles as boundary faces: what TetGen would give for the
+//! icosahedron of the paper's sphere case.
+inline TetMesh star_tets(const TriSurface& s, const Vec3& centre) {
+  TetMesh tm;
+  tm.points = s.points;
+  tm.points.push_back(centre);
+  const int c = int(tm.points.size()) - 1;
+  for (size_t t = 0; t < s.triangles.size(); ++t) {
+    const auto& f = s.triangles[t];
+    tm.tets.push_back({f[1], f[0], f[2], c});  // outward triangle, centre inside: positive
+    tm.boundary_faces.push_back(f);
+    tm.boundary_face_source.push_back(int(t));
   }
-  return m;
-}
-
-//! Each hex into n^3 by trilinear interpolation; shared nodes merged by position.
-inline HexMesh dice_by_position(const HexMesh& in, int n) {
-  HexMesh m;
-  std::map<std::array<long, 3>, int> index;
-  auto node = [&](const Vec3& p) {
-    const std::array<long, 3> key = {std::lround(p.x() * 1e8), std::lround(p.y() * 1e8), std::lround(p.z() * 1e8)};
-    auto it = index.find(key);
-    if (it != index.end()) return it->second;
-    m.nodes.push_back(p);
-    return index[key] = int(m.nodes.size()) - 1;
-  };
-  for (const auto& h : in.hexes) {
-    std::array<Vec3, 8> x;
-    for (size_t i = 0; i < 8; ++i) x[i] = in.nodes[size_t(h[i])];
-    auto at = [&](int i, int j, int k) {
-      const double u = double(i) / n, v = double(j) / n, w = double(k) / n;
-      const Vec3 p = (1 - u) * (1 - v) * (1 - w) * x[0] + u * (1 - v) * (1 - w) * x[1] + u * v * (1 - w) * x[2] +
-                     (1 - u) * v * (1 - w) * x[3] + (1 - u) * (1 - v) * w * x[4] + u * (1 - v) * w * x[5] +
-                     u * v * w * x[6] + (1 - u) * v * w * x[7];
-      return node(p);
-    };
-    for (int k = 0; k < n; ++k)
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i)
-          m.hexes.push_back({at(i, j, k), at(i + 1, j, k), at(i + 1, j + 1, k), at(i, j + 1, k), at(i, j, k + 1),
-                             at(i + 1, j, k + 1), at(i + 1, j + 1, k + 1), at(i, j + 1, k + 1)});
-  }
-  return m;
+  return tm;
 }
 
 }  // namespace dthex::testing

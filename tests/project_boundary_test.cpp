@@ -2,6 +2,8 @@
 #include "core/project_boundary.h"
 
 #include "boundary_fixtures.h"
+#include "core/dice.h"
+#include "core/thex.h"
 #include "core/quality.h"
 
 #include <gtest/gtest.h>
@@ -27,8 +29,7 @@ TEST(ProjectBoundary, SphereNodesLandOnFineSurface) {
   const TriSurface fine = read_off(DTHEX_SOURCE_DIR "/meshes/sphere728.off");
   ASSERT_EQ(coarse.triangles.size(), 20u);
   ASSERT_EQ(fine.triangles.size(), 728u);
-  HexMesh mesh = dice_by_position(thex_star(coarse, Vec3::Zero()), 3);
-  label_boundary(mesh, coarse);
+  HexMesh mesh = dice(thex(star_tets(coarse, Vec3::Zero())), 3);
   ASSERT_EQ(mesh.hexes.size(), 2160u);
   ASSERT_EQ(mesh.nodes.size(), 2473u);
 
@@ -56,8 +57,7 @@ TEST(ProjectBoundary, SphereNodesLandOnFineSurface) {
 TEST(ProjectBoundary, InteriorReplacementBeatsBoundaryOnly) {
   const TriSurface coarse = read_off(DTHEX_SOURCE_DIR "/meshes/icosahedron.off");
   const TriSurface fine = read_off(DTHEX_SOURCE_DIR "/meshes/sphere728.off");
-  HexMesh diced = dice_by_position(thex_star(coarse, Vec3::Zero()), 3);
-  label_boundary(diced, coarse);
+  HexMesh diced = dice(thex(star_tets(coarse, Vec3::Zero())), 3);
   const TriangleBvh bvh(fine);
   HexMesh alone = diced, carried = diced;
   ProjectOptions boundary_only;

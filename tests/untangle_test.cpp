@@ -2,6 +2,8 @@
 #include "core/untangle.h"
 
 #include "boundary_fixtures.h"
+#include "core/dice.h"
+#include "core/thex.h"
 #include "core/project_boundary.h"
 #include "core/quality.h"
 
@@ -21,8 +23,7 @@ double distance_to(const TriangleBvh& bvh, const Vec3& p) { return std::sqrt(bvh
 TEST(Untangle, SphereReachesTargetQuality) {
   const TriSurface coarse = read_off(DTHEX_SOURCE_DIR "/meshes/icosahedron.off");
   const TriSurface fine = read_off(DTHEX_SOURCE_DIR "/meshes/sphere728.off");
-  HexMesh mesh = dice_by_position(thex_star(coarse, Vec3::Zero()), 3);
-  label_boundary(mesh, coarse);
+  HexMesh mesh = dice(thex(star_tets(coarse, Vec3::Zero())), 3);
   const TriangleBvh bvh(fine);
   project_boundary(mesh, coarse, fine, bvh);
   const HexQuality projected = measure_hex_quality(mesh);
