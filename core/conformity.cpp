@@ -1,0 +1,218 @@
+// SPDX-License-Identifier: MIT
+#include "core/conformity.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <unordered_map>
+
+namespace dthex {
+namespace {
+
+// VTK hex faces as outward corner rings.
+constexpr int kHexFaces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                                 {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+
+struct FaceUse {
+  std::array<int, 4> key;  // sorted node ids
+  int item;                // hex * 6 + local face
+  bool operator<(const FaceUse& o) const { return key != o.key ? key < o.key : item < o.item; }
+};
+
+std::vector<FaceUse> sorted_face_uses(const HexMesh& mesh) {
+  std::vector<FaceUse> uses(6 * mesh.hexes.size());
+  for (size_t h = 0; h < mesh.hexes.size(); ++h)
+    for (int f = 0; f < 6; ++f) {
+      auto& u = uses[6 * h + size_t(f)];
+      for (int k = 0; k < 4; ++k) u.key[size_t(k)] = mesh.hexes[h][size_t(kHexFaces[f][k])];
+      std::sort(u.key.begin(), u.key.end());
+      u.item = int(6 * h) + f;
+    }
+  std::sort(uses.begin(), uses.end());
+  return uses;
+}
+
+//! Calls visit(first, count) for each run of equal keys.
+template <class Visit>
+void for_each_face(const std::vector<FaceUse>& uses, Visit visit) {
+  for (size_t i = 0; i < uses.size();) {
+    size_t j = i + 1;
+    while (j < uses.size() && uses[j].key == uses[i].key) ++j;
+    visit(i, j - i);
+    i = j;
+  }
+}
+
+std::array<int, 4> face_ring(const HexMesh& mesh, int item) {
+  const auto& hex = mesh.hexes[size_t(item / 6)];
+  const auto& f = kHexFaces[item % 6];
+  return {hex[size_t(f[0])], hex[size_t(f[1])], hex[size_t(f[2])], hex[size_t(f[3])]};
+}
+
+int find_root(std::vector<int>& parent, int x) {
+  while (parent[size_t(x)] != x) x = parent[size_t(x)] = parent[size_t(parent[size_t(x)])];
+  return x;
+}
+
+uint64_t edge_key(int a, int b) {
+  if (a > b) std::swap(a, b);
+  return (uint64_t(uint32_t(a)) << 32) | uint32_t(b);
+}
+
+}  // namespace
+
+std::vector<std::array<int, 4>> boundary_quads(const HexMesh& mesh) {
+  const auto uses = sorted_face_uses(mesh);
+  std::vector<int> items;
+  for_each_face(uses, [&](size_t first, size_t count) {
+    if (count == 1) items.push_back(uses[first].item);
+  });
+  std::sort(items.begin(), items.end());
+  std::vector<std::array<int, 4>> quads;
+  quads.reserve(items.size());
+  for (int item : items) quads.push_back(face_ring(mesh, item));
+  return quads;
+}
+
+ConformityReport check_conformity(const HexMesh& mesh) {
+  ConformityReport r;
+  r.hexes = mesh.hexes.size();
+  r.nodes = mesh.nodes.size();
+  for (const auto& hex : mesh.hexes)
+    for (int v : hex)
+      if (v < 0 || size_t(v) >= mesh.nodes.size())
+        throw InputError("check_conformity: a hex refers to node " + std::to_string(v) + ", outside the " +
+                         std::to_string(mesh.nodes.size()) + " nodes");
+
+  const auto uses = sorted_face_uses(mesh);
+  for_each_face(uses, [&](size_t, size_t count) {
+    if (count == 1) ++r.boundary_faces;
+    if (count > 2) ++r.overshared_faces;
+  });
+
+  std::vector<std::array<int, 8>> sorted_hexes = mesh.hexes;
+  for (auto& h : sorted_hexes) std::sort(h.begin(), h.end());
+  std::sort(sorted_hexes.begin(), sorted_hexes.end());
+  for (size_t i = 1; i < sorted_hexes.size(); ++i)
+    if (sorted_hexes[i] == sorted_hexes[i - 1]) ++r.duplicate_hexes;
+
+  std::vector<char> used(mesh.nodes.size(), 0);
+  for (const auto& h : mesh.hexes)
+    for (int v : h) used[size_t(v)] = 1;
+  r.unreferenced_nodes = size_t(std::count(used.begin(), used.end(), 0));
+
+  // Coincident nodes: snap to a grid of 1e-10 of the bounding-box diagonal and sort.
+  if (!mesh.nodes.empty()) {
+    Vec3 lo = mesh.nodes[0], hi = mesh.nodes[0];
+    for (const auto& p : mesh.nodes) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    const double cell = std::max((hi - lo).norm() * 1e-10, 1e-300);
+    std::vector<std::array<int64_t, 3>> snapped(mesh.nodes.size());
+    for (size_t i = 0; i < mesh.nodes.size(); ++i)
+      for (int k = 0; k < 3; ++k) snapped[i][size_t(k)] = int64_t(std::llround((mesh.nodes[i][k] - lo[k]) / cell));
+    std::sort(snapped.begin(), snapped.end());
+    for (size_t i = 1; i < snapped.size(); ++i)
+      if (snapped[i] == snapped[i - 1]) ++r.duplicate_nodes;
+  }
+
+  // The boundary quad surface: edges, orientation, fans around each node.
+  const auto quads = boundary_quads(mesh);
+  struct EdgeUse {
+    uint64_t key;
+    int quad, corner;  // the directed edge runs from corner to corner + 1 of quad
+    bool operator<(const EdgeUse& o) const { return key < o.key; }
+  };
+  std::vector<EdgeUse> edges;
+  edges.reserve(4 * quads.size());
+  for (size_t q = 0; q < quads.size(); ++q)
+    for (int c = 0; c < 4; ++c) edges.push_back({edge_key(quads[q][size_t(c)], quads[q][size_t((c + 1) % 4)]), int(q), c});
+  std::sort(edges.begin(), edges.end());
+  // Fans: union the corner incidences (quad * 4 + corner) that meet across a shared edge.
+  std::vector<int> parent(4 * quads.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  auto unite = [&](int a, int b) { parent[size_t(find_root(parent, a))] = find_root(parent, b); };
+  std::vector<std::pair<uint64_t, std::array<int, 2>>> boundary_edges;
+  for (size_t i = 0; i < edges.size();) {
+    size_t j = i + 1;
+    while (j < edges.size() && edges[j].key == edges[i].key) ++j;
+    const int a = int(edges[i].key >> 32), b = int(edges[i].key & 0xffffffffu);
+    boundary_edges.push_back({edges[i].key, {a, b}});
+    if (j - i != 2) {
+      ++r.open_boundary_edges;
+    } else {
+      const auto& e0 = edges[i];
+      const auto& e1 = edges[i + 1];
+      const int from0 = quads[size_t(e0.quad)][size_t(e0.corner)], from1 = quads[size_t(e1.quad)][size_t(e1.corner)];
+      if (from0 == from1) ++r.misoriented_boundary_edges;
+      // Corner of each quad at node a and at node b.
+      for (int node : {a, b}) {
+        const int c0 = quads[size_t(e0.quad)][size_t(e0.corner)] == node ? e0.corner : (e0.corner + 1) % 4;
+        const int c1 = quads[size_t(e1.quad)][size_t(e1.corner)] == node ? e1.corner : (e1.corner + 1) % 4;
+        unite(4 * e0.quad + c0, 4 * e1.quad + c1);
+      }
+    }
+    i = j;
+  }
+  std::vector<int> first_fan(mesh.nodes.size(), -1);
+  std::vector<char> counted(mesh.nodes.size(), 0);
+  for (size_t q = 0; q < quads.size(); ++q)
+    for (int c = 0; c < 4; ++c) {
+      const size_t node = size_t(quads[q][size_t(c)]);
+      const int fan = find_root(parent, int(4 * q) + c);
+      if (first_fan[node] < 0) first_fan[node] = fan;
+      else if (first_fan[node] != fan && !counted[node]) {
+        counted[node] = 1;
+        ++r.non_manifold_boundary_nodes;
+      }
+    }
+
+  // Hanging nodes: boundary nodes inside a boundary edge, found through a uniform grid.
+  if (!boundary_edges.empty()) {
+    double total = 0;
+    for (const auto& e : boundary_edges) total += (mesh.nodes[size_t(e.second[1])] - mesh.nodes[size_t(e.second[0])]).norm();
+    const double cell = std::max(total / double(boundary_edges.size()), 1e-300);
+    auto cell_of = [&](const Vec3& p) {
+      return std::array<int64_t, 3>{int64_t(std::floor(p.x() / cell)), int64_t(std::floor(p.y() / cell)),
+                                    int64_t(std::floor(p.z() / cell))};
+    };
+    auto hash = [](const std::array<int64_t, 3>& c) {
+      return uint64_t(c[0]) * 73856093ULL ^ uint64_t(c[1]) * 19349663ULL ^ uint64_t(c[2]) * 83492791ULL;
+    };
+    std::unordered_map<uint64_t, std::vector<int>> grid;
+    for (size_t v = 0; v < mesh.nodes.size(); ++v)
+      if (first_fan[v] >= 0) grid[hash(cell_of(mesh.nodes[v]))].push_back(int(v));
+    std::vector<char> hanging(mesh.nodes.size(), 0);
+    for (const auto& e : boundary_edges) {
+      const Vec3& a = mesh.nodes[size_t(e.second[0])];
+      const Vec3& b = mesh.nodes[size_t(e.second[1])];
+      const Vec3 d = b - a;
+      const double len2 = d.squaredNorm();
+      if (len2 <= 0) continue;
+      // Walk the edge in half-cell steps and look at the 27 cells around each step.
+      const int steps = int(std::ceil(std::sqrt(len2) / (0.5 * cell))) + 1;
+      for (int s = 0; s <= steps; ++s) {
+        const auto centre = cell_of(a + (double(s) / steps) * d);
+        for (int64_t x = centre[0] - 1; x <= centre[0] + 1; ++x)
+          for (int64_t y = centre[1] - 1; y <= centre[1] + 1; ++y)
+            for (int64_t z = centre[2] - 1; z <= centre[2] + 1; ++z) {
+              const auto it = grid.find(hash({x, y, z}));
+              if (it == grid.end()) continue;
+              for (int v : it->second) {
+                if (v == e.second[0] || v == e.second[1] || hanging[size_t(v)]) continue;
+                const Vec3 p = mesh.nodes[size_t(v)] - a;
+                const double t = p.dot(d) / len2;
+                if (t <= 1e-9 || t >= 1 - 1e-9) continue;
+                if ((p - t * d).squaredNorm() <= 1e-18 * len2) hanging[size_t(v)] = 1;
+              }
+            }
+      }
+    }
+    r.hanging_nodes = size_t(std::count(hanging.begin(), hanging.end(), 1));
+  }
+  return r;
+}
+
+}  // namespace dthex

@@ -1,0 +1,45 @@
+// SPDX-License-Identifier: MIT
+// Conformity checks for hex meshes: what a finite-element solver silently assumes.
+#pragma once
+
+#include "core/types.h"
+
+#include <array>
+#include <vector>
+
+namespace dthex {
+
+//! What check_conformity() found. A conforming mesh has every count below at zero
+//! (boundary_faces excepted): faces shared by at most two hexes, no repeated hex or
+//! node, every node used, and a boundary quad surface that is closed, 2-manifold and
+//! consistently oriented, with no node hanging on another boundary edge.
+struct ConformityReport {
+  size_t hexes = 0, nodes = 0;
+  size_t boundary_faces = 0;             //!< faces used by exactly one hex
+  size_t overshared_faces = 0;           //!< faces used by more than two hexes
+  size_t duplicate_hexes = 0;            //!< hexes with the same 8 nodes as an earlier one
+  size_t unreferenced_nodes = 0;         //!< nodes no hex uses
+  size_t duplicate_nodes = 0;            //!< nodes coinciding with an earlier node (1e-10 of the diagonal)
+  size_t open_boundary_edges = 0;        //!< boundary-surface edges not used by exactly two boundary quads
+  size_t misoriented_boundary_edges = 0; //!< edges two boundary quads traverse in the same direction
+  size_t non_manifold_boundary_nodes = 0;//!< boundary nodes whose boundary quads form several fans
+  size_t hanging_nodes = 0;              //!< boundary nodes lying inside another boundary edge
+
+  bool conforming() const {
+    return overshared_faces == 0 && duplicate_hexes == 0 && unreferenced_nodes == 0 && duplicate_nodes == 0 &&
+           open_boundary_edges == 0 && misoriented_boundary_edges == 0 && non_manifold_boundary_nodes == 0 &&
+           hanging_nodes == 0;
+  }
+};
+
+//! Checks a hex mesh for the defects listed in ConformityReport. A hanging node (one
+//! side of a face refined, the other not) shows up as non-manifold boundary nodes and
+//! hanging nodes: the refined and unrefined sides each get their own boundary face.
+//! O(n log n); meant for tests and verification, not for inner loops.
+ConformityReport check_conformity(const HexMesh& mesh);
+
+//! The faces used by exactly one hex, as node rings oriented outward (counter-clockwise
+//! seen from outside) for positively oriented hexes, in hex order.
+std::vector<std::array<int, 4>> boundary_quads(const HexMesh& mesh);
+
+}  // namespace dthex

@@ -1,0 +1,306 @@
+// SPDX-License-Identifier: MIT
+#include "core/tetrahedralize.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstring>
+#include <sstream>
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <tetgen.h>  // only here: it #defines REAL and friends
+
+namespace dthex {
+namespace {
+
+constexpr const char* kAllowedSwitches = "pqaAYMTOSDcXJenQz0123456789./-+";
+
+// Exit codes of the child besides TetGen's own error codes (1..10, see notes section 2).
+constexpr int kExitUnknownException = 100;
+constexpr int kExitBadSwitches = 101;
+constexpr int kExitWriteFailed = 102;
+constexpr int kExitNoMemory = 103;
+
+struct Header {
+  uint64_t magic = 0x7465746765'6e3135ULL;
+  int64_t points = 0, tets = 0, faces = 0, markers = 0;
+};
+
+std::string tetgen_error_text(int code) {
+  switch (code) {
+    case 1: return "TetGen ran out of memory";
+    case 2: return "TetGen hit an internal error";
+    case 3: return "TetGen found a self-intersection in the surface";
+    case 4: return "TetGen found a very small input feature (try a larger T tolerance)";
+    case 5: return "TetGen found two very close facets (try the Y switch)";
+    case 10: return "TetGen rejected the input";
+    case kExitUnknownException: return "TetGen threw an unexpected exception";
+    case kExitBadSwitches: return "TetGen rejected the switches";
+    case kExitWriteFailed: return "TetGen's result could not be sent back";
+    case kExitNoMemory: return "TetGen ran out of memory";
+    default: return "TetGen failed with exit code " + std::to_string(code);
+  }
+}
+
+std::string signal_name(int sig) {
+  switch (sig) {
+    case SIGSEGV: return "SIGSEGV";
+    case SIGABRT: return "SIGABRT";
+    case SIGBUS: return "SIGBUS";
+    case SIGFPE: return "SIGFPE";
+    case SIGKILL: return "SIGKILL";
+    default: return "signal";
+  }
+}
+
+bool write_all(int fd, const void* data, size_t bytes) {
+  const char* p = static_cast<const char*>(data);
+  while (bytes > 0) {
+    const ssize_t n = ::write(fd, p, bytes);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    p += n;
+    bytes -= size_t(n);
+  }
+  return true;
+}
+
+//! Runs in the child: builds TetGen's input, runs it, streams the result. Never returns.
+[[noreturn]] void run_tetgen_child(const TriSurface& surface, const std::string& switches, int out_fd) {
+  const int null_fd = ::open("/dev/null", O_WRONLY);
+  if (null_fd >= 0) {
+    ::dup2(null_fd, STDOUT_FILENO);
+    ::dup2(null_fd, STDERR_FILENO);
+  }
+  int code = 0;
+  try {
+    tetgenio in, out;
+    in.firstnumber = 0;
+    in.numberofpoints = int(surface.points.size());
+    in.pointlist = new REAL[3 * surface.points.size()];
+    for (size_t i = 0; i < surface.points.size(); ++i)
+      for (int k = 0; k < 3; ++k) in.pointlist[3 * i + size_t(k)] = surface.points[i][k];
+    in.numberoffacets = int(surface.triangles.size());
+    in.facetlist = new tetgenio::facet[surface.triangles.size()];
+    in.facetmarkerlist = new int[surface.triangles.size()];
+    for (size_t t = 0; t < surface.triangles.size(); ++t) {
+      tetgenio::facet& f = in.facetlist[t];
+      tetgenio::init(&f);
+      f.numberofpolygons = 1;
+      f.polygonlist = new tetgenio::polygon[1];
+      tetgenio::init(&f.polygonlist[0]);
+      f.polygonlist[0].numberofvertices = 3;
+      f.polygonlist[0].vertexlist = new int[3];
+      for (int k = 0; k < 3; ++k) f.polygonlist[0].vertexlist[k] = surface.triangles[t][size_t(k)];
+      in.facetmarkerlist[t] = int(t);
+    }
+    std::vector<char> buffer(switches.begin(), switches.end());
+    buffer.push_back('\0');
+    tetgenbehavior behaviour;
+    if (!behaviour.parse_commandline(buffer.data())) ::_exit(kExitBadSwitches);
+    tetrahedralize(&behaviour, &in, &out);
+
+    Header h;
+    h.points = out.numberofpoints;
+    h.tets = out.numberofcorners == 4 ? out.numberoftetrahedra : 0;
+    h.faces = out.numberoftrifaces;
+    h.markers = out.trifacemarkerlist ? out.numberoftrifaces : 0;
+    const bool ok = write_all(out_fd, &h, sizeof h) &&
+                    write_all(out_fd, out.pointlist, sizeof(REAL) * 3 * size_t(h.points)) &&
+                    write_all(out_fd, out.tetrahedronlist, sizeof(int) * 4 * size_t(h.tets)) &&
+                    write_all(out_fd, out.trifacelist, sizeof(int) * 3 * size_t(h.faces)) &&
+                    write_all(out_fd, out.trifacemarkerlist, sizeof(int) * size_t(h.markers));
+    code = ok ? 0 : kExitWriteFailed;
+  } catch (int tetgen_code) {
+    code = tetgen_code > 0 && tetgen_code < 100 ? tetgen_code : kExitUnknownException;
+  } catch (const std::bad_alloc&) {
+    code = kExitNoMemory;
+  } catch (...) {
+    code = kExitUnknownException;
+  }
+  ::close(out_fd);
+  ::_exit(code);  // no atexit handlers, no flushing of the parent's stdio buffers
+}
+
+void validate(const TriSurface& surface, const TetgenOptions& options) {
+  for (size_t i = 0; i < options.switches.size(); ++i)
+    if (!std::strchr(kAllowedSwitches, options.switches[i]) || options.switches[i] == '\0')
+      throw InputError("tetrahedralize: TetGen switch '" + std::string(1, options.switches[i]) + "' in \"" +
+                       options.switches + "\" is not allowed (allowed: " + kAllowedSwitches +
+                       "); switches that write or read files or change the output layout are refused");
+  if (!(options.time_limit_seconds > 0))
+    throw InputError("tetrahedralize: the time limit must be positive, got " + std::to_string(options.time_limit_seconds));
+  if (surface.points.size() < 4 || surface.triangles.size() < 4)
+    throw InputError("tetrahedralize: the surface has " + std::to_string(surface.points.size()) + " points and " +
+                     std::to_string(surface.triangles.size()) + " triangles; a closed surface needs at least 4 of each");
+  for (size_t t = 0; t < surface.triangles.size(); ++t) {
+    const auto& tri = surface.triangles[t];
+    for (int k = 0; k < 3; ++k) {
+      if (tri[size_t(k)] < 0 || size_t(tri[size_t(k)]) >= surface.points.size())
+        throw InputError("tetrahedralize: triangle " + std::to_string(t) + " refers to point " +
+                         std::to_string(tri[size_t(k)]) + ", outside the " + std::to_string(surface.points.size()) +
+                         " points");
+      if (tri[size_t(k)] == tri[size_t((k + 1) % 3)])
+        throw InputError("tetrahedralize: triangle " + std::to_string(t) + " repeats point " +
+                         std::to_string(tri[size_t(k)]));
+    }
+  }
+}
+
+//! Reads the child's whole output, or kills the child at the deadline. Returns false on timeout.
+bool read_until_eof(int fd, pid_t child, double seconds, std::vector<char>& data) {
+  using Clock = std::chrono::steady_clock;
+  const auto deadline = Clock::now() + std::chrono::duration<double>(seconds);
+  std::vector<char> chunk(1 << 16);
+  for (;;) {
+    const double left = std::chrono::duration<double>(deadline - Clock::now()).count();
+    if (left <= 0) {
+      ::kill(child, SIGKILL);
+      return false;
+    }
+    pollfd p{fd, POLLIN, 0};
+    const int ready = ::poll(&p, 1, int(std::min(std::ceil(left * 1000.0), 1e9)));
+    if (ready < 0 && errno == EINTR) continue;
+    if (ready < 0) throw MeshingError(std::string("tetrahedralize: waiting for TetGen failed: ") + std::strerror(errno));
+    if (ready == 0) continue;  // the deadline check above fires
+    const ssize_t n = ::read(fd, chunk.data(), chunk.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw MeshingError(std::string("tetrahedralize: reading TetGen's result failed: ") + std::strerror(errno));
+    if (n == 0) return true;
+    data.insert(data.end(), chunk.data(), chunk.data() + n);
+  }
+}
+
+TetMesh decode(const std::vector<char>& data, size_t n_input_triangles) {
+  Header h;
+  const Header expected;
+  if (data.size() < sizeof h) throw MeshingError("tetrahedralize: TetGen's result is truncated");
+  std::memcpy(&h, data.data(), sizeof h);
+  const size_t need = sizeof h + sizeof(double) * 3 * size_t(h.points) + sizeof(int) * (4 * size_t(h.tets) + 3 * size_t(h.faces) + size_t(h.markers));
+  if (h.magic != expected.magic || h.points < 0 || h.tets < 0 || h.faces < 0 || h.markers < 0 || data.size() != need)
+    throw MeshingError("tetrahedralize: TetGen's result is malformed");
+  TetMesh mesh;
+  const char* p = data.data() + sizeof h;
+  std::vector<double> xyz(3 * size_t(h.points));
+  std::memcpy(xyz.data(), p, sizeof(double) * xyz.size());
+  p += sizeof(double) * xyz.size();
+  mesh.points.resize(size_t(h.points));
+  for (size_t i = 0; i < mesh.points.size(); ++i) mesh.points[i] = Vec3(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+  mesh.tets.resize(size_t(h.tets));
+  std::memcpy(mesh.tets.data(), p, sizeof(int) * 4 * mesh.tets.size());
+  p += sizeof(int) * 4 * mesh.tets.size();
+  mesh.boundary_faces.resize(size_t(h.faces));
+  std::memcpy(mesh.boundary_faces.data(), p, sizeof(int) * 3 * mesh.boundary_faces.size());
+  p += sizeof(int) * 3 * mesh.boundary_faces.size();
+  mesh.boundary_face_source.assign(size_t(h.faces), -1);
+  if (h.markers == h.faces) std::memcpy(mesh.boundary_face_source.data(), p, sizeof(int) * size_t(h.markers));
+
+  const auto n_points = mesh.points.size();
+  auto valid = [&](int v) { return v >= 0 && size_t(v) < n_points; };
+  for (const auto& t : mesh.tets)
+    if (!std::all_of(t.begin(), t.end(), valid)) throw MeshingError("tetrahedralize: TetGen returned a tet with an invalid point index");
+  for (const auto& f : mesh.boundary_faces)
+    if (!std::all_of(f.begin(), f.end(), valid)) throw MeshingError("tetrahedralize: TetGen returned a face with an invalid point index");
+  for (int& s : mesh.boundary_face_source)
+    if (s < 0 || size_t(s) >= n_input_triangles) s = -1;
+  return mesh;
+}
+
+//! Positive tets, outward boundary faces: checked against the geometry, not assumed.
+void orient(TetMesh& mesh) {
+  auto signed_volume6 = [&](int a, int b, int c, int d) {
+    const Vec3& pa = mesh.points[size_t(a)];
+    return (mesh.points[size_t(b)] - pa).cross(mesh.points[size_t(c)] - pa).dot(mesh.points[size_t(d)] - pa);
+  };
+  for (auto& t : mesh.tets)
+    if (signed_volume6(t[0], t[1], t[2], t[3]) < 0) std::swap(t[1], t[2]);
+
+  // Each boundary face's tet: (sorted face, opposite vertex) for all tet faces, sorted.
+  struct TetFace {
+    std::array<int, 3> key;
+    int opposite;
+    bool operator<(const TetFace& o) const { return key < o.key; }
+  };
+  std::vector<TetFace> faces;
+  faces.reserve(4 * mesh.tets.size());
+  for (const auto& t : mesh.tets)
+    for (int f = 0; f < 4; ++f) {
+      std::array<int, 3> key = {t[size_t((f + 1) % 4)], t[size_t((f + 2) % 4)], t[size_t((f + 3) % 4)]};
+      std::sort(key.begin(), key.end());
+      faces.push_back({key, t[size_t(f)]});
+    }
+  std::sort(faces.begin(), faces.end());
+  for (auto& bf : mesh.boundary_faces) {
+    TetFace probe{bf, -1};
+    std::sort(probe.key.begin(), probe.key.end());
+    const auto it = std::lower_bound(faces.begin(), faces.end(), probe);
+    if (it == faces.end() || it->key != probe.key)
+      throw MeshingError("tetrahedralize: TetGen returned a boundary face that is not a face of any tet");
+    // Outward: the tet's opposite vertex lies behind the face.
+    if (signed_volume6(bf[0], bf[1], bf[2], it->opposite) > 0) std::swap(bf[1], bf[2]);
+  }
+}
+
+}  // namespace
+
+TetMesh tetrahedralize(const TriSurface& surface, const TetgenOptions& options) {
+  validate(surface, options);
+  const std::string switches = options.switches + "Qz";
+
+  int fds[2];
+  if (::pipe(fds) != 0) throw MeshingError(std::string("tetrahedralize: cannot create a pipe: ") + std::strerror(errno));
+  const pid_t child = ::fork();
+  if (child < 0) {
+    ::close(fds[0]);
+    ::close(fds[1]);
+    throw MeshingError(std::string("tetrahedralize: cannot start TetGen's process: ") + std::strerror(errno));
+  }
+  if (child == 0) {
+    ::close(fds[0]);
+    run_tetgen_child(surface, switches, fds[1]);
+  }
+  ::close(fds[1]);
+  std::vector<char> data;
+  bool finished = false;
+  try {
+    finished = read_until_eof(fds[0], child, options.time_limit_seconds, data);
+  } catch (...) {
+    ::kill(child, SIGKILL);
+    ::close(fds[0]);
+    ::waitpid(child, nullptr, 0);
+    throw;
+  }
+  ::close(fds[0]);
+  // EOF may come before the exit (the child closes the pipe first): wait, bounded by the limit too.
+  int status = 0;
+  while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (!finished) {
+    std::ostringstream limit;
+    limit << options.time_limit_seconds;
+    throw MeshingError("TetGen exceeded the time limit of " + limit.str() + " s and was stopped; coarsen the surface, relax the quality switches (\"" + options.switches +
+                       "\") or raise the limit");
+  }
+  if (WIFSIGNALED(status)) {
+    const int sig = WTERMSIG(status);
+    throw MeshingError("TetGen crashed (signal " + std::to_string(sig) + ", " + signal_name(sig) +
+                       ") on the surface: it is probably self-intersecting or has nearly coincident facets");
+  }
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    throw MeshingError(tetgen_error_text(code) + " (switches \"" + switches + "\")");
+  }
+  TetMesh mesh = decode(data, surface.triangles.size());
+  if (mesh.tets.empty()) throw MeshingError("TetGen returned no tetrahedra for the surface (switches \"" + switches + "\")");
+  orient(mesh);
+  return mesh;
+}
+
+}  // namespace dthex

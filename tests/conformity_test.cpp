@@ -1,0 +1,99 @@
+// SPDX-License-Identifier: MIT
+#include "core/conformity.h"
+#include "core/dice.h"
+#include "core/tetrahedralize.h"
+#include "core/thex.h"
+#include "refine_fixtures.h"
+
+#include <gtest/gtest.h>
+
+#include <map>
+
+using namespace dthex;
+
+namespace {
+
+//! Splits hex h of the mesh into 8 (new nodes appended), leaving its neighbours alone.
+HexMesh split_one_hex(HexMesh mesh, size_t h) {
+  HexMesh single;
+  single.nodes = mesh.nodes;
+  single.hexes = {mesh.hexes[h]};
+  const HexMesh split = dice(single, 2);
+  // dice() keeps the input nodes' indices and appends the new ones.
+  for (size_t i = mesh.nodes.size(); i < split.nodes.size(); ++i) mesh.nodes.push_back(split.nodes[i]);
+  mesh.hexes.erase(mesh.hexes.begin() + long(h));
+  mesh.hexes.insert(mesh.hexes.end(), split.hexes.begin(), split.hexes.end());
+  return mesh;
+}
+
+}  // namespace
+
+TEST(Conformity, BlockIsConformingWithClosedOutwardBoundary) {
+  const HexMesh block = fixtures::hex_block(2, 2, 1);
+  const ConformityReport r = check_conformity(block);
+  EXPECT_TRUE(r.conforming());
+  EXPECT_EQ(r.boundary_faces, 2u * 4 + 2u * 2 + 2u * 2);
+  const auto quads = boundary_quads(block);
+  ASSERT_EQ(quads.size(), r.boundary_faces);
+  // Outward: each quad's normal points away from the block's centre.
+  const Vec3 centre(1, 1, 0.5);
+  for (const auto& q : quads) {
+    const Vec3 n = (block.nodes[size_t(q[2])] - block.nodes[size_t(q[0])]).cross(block.nodes[size_t(q[3])] - block.nodes[size_t(q[1])]);
+    const Vec3 mid = 0.25 * (block.nodes[size_t(q[0])] + block.nodes[size_t(q[1])] + block.nodes[size_t(q[2])] + block.nodes[size_t(q[3])]);
+    EXPECT_GT(n.dot(mid - centre), 0.0);
+  }
+}
+
+TEST(Conformity, ThexAndDiceOfATetGenMeshAreConforming) {
+  const TriSurface sphere = fixtures::read_off(DTHEX_SOURCE_DIR "/meshes/sphere728.off");
+  const TetMesh tets = tetrahedralize(sphere);
+  const HexMesh thexed = thex(tets);
+  const ConformityReport r1 = check_conformity(thexed);
+  EXPECT_TRUE(r1.conforming());
+  EXPECT_EQ(r1.boundary_faces, 3 * tets.boundary_faces.size());
+  const HexMesh diced = dice(thexed, 2);
+  const ConformityReport r2 = check_conformity(diced);
+  EXPECT_TRUE(r2.conforming());
+  EXPECT_EQ(r2.boundary_faces, 4 * r1.boundary_faces);
+  EXPECT_EQ(r2.hexes, 8 * thexed.hexes.size());
+}
+
+TEST(Conformity, CatchesAHangingNode) {
+  const HexMesh mesh = split_one_hex(fixtures::hex_block(2, 1, 1), 1);
+  ASSERT_EQ(mesh.hexes.size(), 9u);
+  const ConformityReport r = check_conformity(mesh);
+  EXPECT_FALSE(r.conforming());
+  EXPECT_EQ(r.hanging_nodes, 4u);                  // the 4 edge midpoints of the shared face
+  EXPECT_EQ(r.non_manifold_boundary_nodes, 4u);    // the shared face's corners
+  EXPECT_EQ(r.boundary_faces, 6u + 24u);           // both sides of the interface count
+  EXPECT_EQ(r.duplicate_nodes, 0u);
+}
+
+TEST(Conformity, CatchesADuplicatedNode) {
+  HexMesh mesh = fixtures::hex_block(2, 1, 1);
+  // Hex 1 gets its own copy of node 1 (on the shared face).
+  mesh.nodes.push_back(mesh.nodes[1]);
+  for (int& v : mesh.hexes[1])
+    if (v == 1) v = int(mesh.nodes.size()) - 1;
+  const ConformityReport r = check_conformity(mesh);
+  EXPECT_FALSE(r.conforming());
+  EXPECT_EQ(r.duplicate_nodes, 1u);
+  EXPECT_EQ(r.boundary_faces, 12u);
+}
+
+TEST(Conformity, CatchesOrientationUnusedNodesAndRepeatedHexes) {
+  HexMesh mirrored = fixtures::hex_block(2, 1, 1);
+  auto& h = mirrored.hexes[1];
+  h = {h[4], h[5], h[6], h[7], h[0], h[1], h[2], h[3]};  // inside out
+  EXPECT_GT(check_conformity(mirrored).misoriented_boundary_edges, 0u);
+
+  HexMesh extra = fixtures::hex_block(1, 1, 1);
+  extra.nodes.push_back(Vec3(5, 5, 5));
+  EXPECT_EQ(check_conformity(extra).unreferenced_nodes, 1u);
+  extra.hexes.push_back(extra.hexes[0]);
+  const ConformityReport r = check_conformity(extra);
+  EXPECT_EQ(r.duplicate_hexes, 1u);
+  EXPECT_EQ(r.overshared_faces, 0u);
+  EXPECT_EQ(r.boundary_faces, 0u);  // every face used twice
+  EXPECT_FALSE(r.conforming());
+}

@@ -1,0 +1,127 @@
+// SPDX-License-Identifier: MIT
+#include "core/conformity.h"
+#include "core/dice.h"
+#include "core/quality.h"
+#include "core/tetrahedralize.h"
+#include "core/thex.h"
+#include "refine_fixtures.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+
+using namespace dthex;
+
+namespace {
+
+std::array<Vec3, 8> unit_cube() {
+  return {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0),
+          Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(1, 1, 1), Vec3(0, 1, 1)};
+}
+
+//! A tiny legacy-VTK writer (ASCII, full precision) so the referee can read our mesh.
+void write_legacy_vtk(const HexMesh& mesh, const std::string& path) {
+  std::ofstream out(path);
+  out << "# vtk DataFile Version 3.0\nquality test\nASCII\nDATASET UNSTRUCTURED_GRID\n";
+  out << "POINTS " << mesh.nodes.size() << " double\n" << std::setprecision(17);
+  for (const auto& p : mesh.nodes) out << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+  out << "CELLS " << mesh.hexes.size() << ' ' << 9 * mesh.hexes.size() << '\n';
+  for (const auto& h : mesh.hexes) {
+    out << 8;
+    for (int v : h) out << ' ' << v;
+    out << '\n';
+  }
+  out << "CELL_TYPES " << mesh.hexes.size() << '\n';
+  for (size_t i = 0; i < mesh.hexes.size(); ++i) out << "12\n";
+}
+
+std::string run(const std::string& command) {
+  std::string text;
+  if (FILE* pipe = ::popen(command.c_str(), "r")) {
+    char buffer[4096];
+    size_t n;
+    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) text.append(buffer, n);
+    ::pclose(pipe);
+  }
+  return text;
+}
+
+}  // namespace
+
+TEST(Quality, UnitCubeIsPerfect) {
+  EXPECT_DOUBLE_EQ(hex_shape(unit_cube()), 1.0);
+  EXPECT_DOUBLE_EQ(hex_scaled_jacobian(unit_cube()), 1.0);
+  auto tiny = unit_cube();
+  for (auto& p : tiny) p *= 1e-6;  // scale-free
+  EXPECT_NEAR(hex_shape(tiny), 1.0, 1e-12);
+}
+
+TEST(Quality, MirroredHexIsInverted) {
+  auto x = unit_cube();
+  for (auto& p : x) p.z() = -p.z();
+  EXPECT_EQ(hex_shape(x), 0.0);
+  EXPECT_LT(hex_scaled_jacobian(x), 0.0);
+  EXPECT_NEAR(hex_scaled_jacobian(x), -1.0, 1e-12);
+}
+
+TEST(Quality, CollapsedEdgeHasZeroScaledJacobian) {
+  auto x = unit_cube();
+  x[1] = x[0];
+  EXPECT_EQ(hex_scaled_jacobian(x), 0.0);
+  EXPECT_EQ(hex_shape(x), 0.0);
+}
+
+TEST(Quality, TetShapes) {
+  const TetMesh regular = fixtures::regular_tet();
+  const auto& t = regular.tets[0];
+  EXPECT_NEAR(tet_shape(regular.points[size_t(t[0])], regular.points[size_t(t[1])], regular.points[size_t(t[2])],
+                        regular.points[size_t(t[3])]),
+              1.0, 1e-12);
+  EXPECT_NEAR(tet_shape(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)), 0.839947, 1e-6);
+  EXPECT_EQ(tet_shape(Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(1, 0, 0), Vec3(0, 0, 1)), 0.0);  // inverted
+  const HexMesh hexes = thex(regular);
+  const HexQuality q = measure_hex_quality(hexes);
+  EXPECT_NEAR(q.shape_stats.min, std::pow(2.0, -1.0 / 3.0), 1e-12);  // 0.7937
+  EXPECT_NEAR(q.shape_stats.max, std::pow(2.0, -1.0 / 3.0), 1e-12);
+  EXPECT_NEAR(q.scaled_jacobian_stats.min, std::sqrt(0.5), 1e-12);
+}
+
+TEST(Quality, AgreesWithTheReferee) {
+  const std::string script = DTHEX_SHARED_DIR "/tools/hexeval.py";
+  if (!std::filesystem::exists(script)) GTEST_SKIP() << script << " is absent";
+  if (std::system("/usr/bin/python3 -c 'import vtk, meshio' >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "/usr/bin/python3 cannot import vtk and meshio";
+  // A TetGen sphere has slivers, so the minima are far from trivial.
+  const TriSurface sphere = fixtures::read_off(DTHEX_SOURCE_DIR "/meshes/sphere728.off");
+  const HexMesh mesh = dice(thex(tetrahedralize(sphere)), 2);
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("dthex_quality_" + std::to_string(::getpid()) + ".vtk")).string();
+  write_legacy_vtk(mesh, path);
+  const std::string output = run("/usr/bin/python3 '" + script + "' '" + path + "' --json 2>/dev/null");
+  std::filesystem::remove(path);
+  // --json prints the report as the last line.
+  std::string trimmed = output.substr(0, output.find_last_not_of("\n") + 1);
+  const auto last_line = trimmed.substr(trimmed.rfind('\n') == std::string::npos ? 0 : trimmed.rfind('\n') + 1);
+  ASSERT_FALSE(last_line.empty()) << "the referee printed nothing";
+  const auto referee = nlohmann::json::parse(last_line);
+  const HexQuality ours = measure_hex_quality(mesh);
+  ASSERT_EQ(referee["hexes"].get<size_t>(), mesh.hexes.size());
+  EXPECT_NEAR(referee["shape"]["avg"].get<double>(), ours.shape_stats.avg, 1e-9);
+  EXPECT_NEAR(referee["shape"]["min"].get<double>(), ours.shape_stats.min, 1e-9);
+  EXPECT_NEAR(referee["shape"]["max"].get<double>(), ours.shape_stats.max, 1e-9);
+  EXPECT_NEAR(referee["scaled_jacobian"]["avg"].get<double>(), ours.scaled_jacobian_stats.avg, 1e-9);
+  EXPECT_NEAR(referee["scaled_jacobian"]["min"].get<double>(), ours.scaled_jacobian_stats.min, 1e-9);
+  EXPECT_NEAR(referee["scaled_jacobian"]["max"].get<double>(), ours.scaled_jacobian_stats.max, 1e-9);
+  EXPECT_LT(ours.shape_stats.min, 0.5);  // not a trivially uniform mesh
+  // The referee's conformity verdict matches ours.
+  const ConformityReport conformity = check_conformity(mesh);
+  EXPECT_TRUE(referee["conforming"].get<bool>());
+  EXPECT_TRUE(referee["boundary"]["closed"].get<bool>());
+  EXPECT_TRUE(conformity.conforming());
+  EXPECT_EQ(referee["faces_boundary"].get<size_t>(), conformity.boundary_faces);
+}
