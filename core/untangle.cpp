@@ -7,8 +7,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <deque>
 #include <limits>
 #include <numeric>
@@ -334,8 +332,6 @@ class Untangler {
       // Garanzha's schedule while something is inverted; once every frame is valid the
       // regularization has done its job and the energy becomes a barrier at once.
       eps = detmin > 0 ? 1e-10 : detmin < mu ? 2.0 * std::sqrt(mu * (mu - detmin)) : 1e-10;
-      if (std::getenv("DTHEX_UNTANGLE_DEBUG"))
-        std::fprintf(stderr, "round %d: E %.6g -> %.6g detmin %.4g eps %.3g vars %ld\n", round, e_prev, e, detmin, eps, long(z.size()));
       if (detmin > 0 && std::abs(e_prev - e) <= 1e-5 * std::abs(e)) break;
     }
     apply(z);
@@ -369,7 +365,13 @@ class Untangler {
     const int o = var_offset_[v];
     if (o < 0) return base_[v];
     if (!is_boundary_[v]) return base_[v] + node_scale_[v] * Vec3(z[o], z[o + 1], z[o + 2]);
-    return base_[v] + node_scale_[v] * (z[o] * tangent1_[v] + z[o + 1] * tangent2_[v]);
+    // A sliding node moves in its tangent plane and is put straight back on the surface, so
+    // the energy the optimizer sees is the energy of on-surface positions (the gradient
+    // uses the tangent plane, exact while the node stays on its triangle).
+    const Vec3 moved = base_[v] + node_scale_[v] * (z[o] * tangent1_[v] + z[o + 1] * tangent2_[v]);
+    const TriangleBvh::ClosestPoint cp = bvh_.closest_point(moved);
+    if (cp.triangle >= 0 && cp.distance_sq <= (moved - base_[v]).squaredNorm()) return cp.point;
+    return moved;
   }
 
   void apply(const Eigen::VectorXd& z) {
