@@ -34,33 +34,43 @@ std::array<int, 4> canonical_ring_order(const std::array<int, 4>& ids) {
   return {m, (m + step) % 4, (m + 2 * step) % 4, (m + 3 * step) % 4};
 }
 
+bool equal(int a, int b) { return a == b; }
+bool equal(const std::array<int, 3>& a, const std::array<int, 3>& b) {
+  return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
+}
+
 //! Groups items by their smallest node (counting sort) and numbers equal keys within
-//! each group; `ids[item]` receives the number. Linear in the items.
-template <class KeyOf>
-size_t number_by_smallest_node(size_t n_items, size_t n_nodes, const std::vector<int>& smallest, KeyOf key_of,
+//! each group; `ids[item]` receives the number. `rest[item]` is the item's key without
+//! its smallest node. Linear in the items: a group holds one node's edges or faces.
+template <class Rest>
+size_t number_by_smallest_node(size_t n_nodes, const std::vector<int>& smallest, const std::vector<Rest>& rest,
                                std::vector<int>& ids) {
+  const size_t n_items = smallest.size();
   std::vector<int> start(n_nodes + 1, 0);
   for (size_t i = 0; i < n_items; ++i) ++start[size_t(smallest[i]) + 1];
   for (size_t v = 0; v < n_nodes; ++v) start[v + 1] += start[v];
   std::vector<int> order(n_items), fill(start.begin(), start.end() - 1);
   for (size_t i = 0; i < n_items; ++i) order[size_t(fill[size_t(smallest[i])]++)] = int(i);
+  fill = {};
   ids.assign(n_items, -1);
   size_t count = 0;
-  std::vector<int> representatives;  // one item per distinct key of the current group
+  std::vector<std::pair<Rest, int>> representatives;  // distinct keys of the current group and their ids
   for (size_t v = 0; v < n_nodes; ++v) {
     representatives.clear();
     for (int i = start[v]; i < start[v + 1]; ++i) {
       const size_t item = size_t(order[size_t(i)]);
-      const auto key = key_of(item);
-      for (int other : representatives)
-        if (key_of(size_t(other)) == key) {
-          ids[item] = ids[size_t(other)];
+      const Rest& key = rest[item];
+      int id = -1;
+      for (const auto& [other, other_id] : representatives)
+        if (equal(other, key)) {
+          id = other_id;
           break;
         }
-      if (ids[item] < 0) {
-        ids[item] = int(count++);
-        representatives.push_back(int(item));
+      if (id < 0) {
+        id = int(count++);
+        representatives.push_back({key, id});
       }
+      ids[item] = id;
     }
   }
   return count;
@@ -81,46 +91,44 @@ HexMesh dice(const HexMesh& mesh, int n) {
     throw InputError("dice: boundary_facet has " + std::to_string(mesh.boundary_facet.size()) + " entries for " +
                      std::to_string(n_nodes) + " nodes");
 
-  // Unique edges: item = hex * 12 + local edge.
-  std::vector<int> smallest(12 * n_hexes);
+  // Unique edges: item = hex * 12 + local edge, keyed by (smaller, larger) node.
+  std::vector<int> smallest(12 * n_hexes), largest(12 * n_hexes);
   for (size_t h = 0; h < n_hexes; ++h)
-    for (int e = 0; e < 12; ++e)
-      smallest[12 * h + size_t(e)] = std::min(mesh.hexes[h][size_t(kHexEdges[e][0])], mesh.hexes[h][size_t(kHexEdges[e][1])]);
+    for (int e = 0; e < 12; ++e) {
+      const int a = mesh.hexes[h][size_t(kHexEdges[e][0])], b = mesh.hexes[h][size_t(kHexEdges[e][1])];
+      smallest[12 * h + size_t(e)] = std::min(a, b);
+      largest[12 * h + size_t(e)] = std::max(a, b);
+    }
   std::vector<int> hex_edge;
-  const size_t n_edges = number_by_smallest_node(
-      12 * n_hexes, n_nodes, smallest,
-      [&](size_t item) {
-        const auto& hx = mesh.hexes[item / 12];
-        const auto& e = kHexEdges[item % 12];
-        return std::max(hx[size_t(e[0])], hx[size_t(e[1])]);
-      },
-      hex_edge);
+  const size_t n_edges = number_by_smallest_node(n_nodes, smallest, largest, hex_edge);
+  largest = {};
 
-  // Unique faces: item = hex * 6 + local face, keyed by the sorted 4 ids.
+  // Faces: item = hex * 6 + local face.
   auto face_ids = [&](size_t item) {
     const auto& hx = mesh.hexes[item / 6];
     const auto& f = kHexFaces[item % 6];
     return std::array<int, 4>{hx[size_t(f[0])], hx[size_t(f[1])], hx[size_t(f[2])], hx[size_t(f[3])]};
   };
-  auto sorted_face_ids = [&](size_t item) {
+  // Unique faces, keyed by their sorted 4 node ids (smallest, then the other three).
+  smallest.assign(6 * n_hexes, 0);
+  std::vector<std::array<int, 3>> others(6 * n_hexes);
+  for (size_t item = 0; item < 6 * n_hexes; ++item) {
     auto ids = face_ids(item);
     std::sort(ids.begin(), ids.end());
-    return ids;
-  };
-  smallest.assign(6 * n_hexes, 0);
-  for (size_t item = 0; item < 6 * n_hexes; ++item) smallest[item] = sorted_face_ids(item)[0];
-  std::vector<int> hex_face;
-  const size_t n_faces = number_by_smallest_node(6 * n_hexes, n_nodes, smallest, sorted_face_ids, hex_face);
-  smallest = {};
-
-  // Per unique edge/face: the item that created it (defines node positions) and how many hexes use a face.
-  std::vector<int> edge_owner(n_edges, -1), face_owner(n_faces, -1), face_uses(n_faces, 0);
-  for (size_t item = 0; item < hex_edge.size(); ++item)
-    if (edge_owner[size_t(hex_edge[item])] < 0) edge_owner[size_t(hex_edge[item])] = int(item);
-  for (size_t item = 0; item < hex_face.size(); ++item) {
-    if (face_owner[size_t(hex_face[item])] < 0) face_owner[size_t(hex_face[item])] = int(item);
-    ++face_uses[size_t(hex_face[item])];
+    smallest[item] = ids[0];
+    others[item] = {ids[1], ids[2], ids[3]};
   }
+  std::vector<int> hex_face;
+  const size_t n_faces = number_by_smallest_node(n_nodes, smallest, others, hex_face);
+  smallest = {};
+  others = {};
+
+  // Unique edges and faces are numbered again in order of first use by the hexes, so
+  // each is created (and its nodes placed) by the first hex that has it, nodes are
+  // written in sequence, and nodes of neighbouring hexes get nearby indices.
+  std::vector<int> edge_number(n_edges, -1), face_number(n_faces, -1), face_uses(n_faces, 0);
+  for (int face : hex_face) ++face_uses[size_t(face)];
+  int next_edge = 0, next_face = 0;
 
   const size_t m = size_t(n - 1);
   const size_t edge_base = n_nodes, face_base = edge_base + m * n_edges, cell_base = face_base + m * m * n_faces;
@@ -128,31 +136,6 @@ HexMesh dice(const HexMesh& mesh, int n) {
   out.nodes.resize(cell_base + m * m * m * n_hexes);
   std::copy(mesh.nodes.begin(), mesh.nodes.end(), out.nodes.begin());
   const double step = 1.0 / n;
-
-  // Edge nodes run from the smaller to the larger end node.
-  for (size_t e = 0; e < n_edges; ++e) {
-    const auto& hx = mesh.hexes[size_t(edge_owner[e]) / 12];
-    const auto& le = kHexEdges[size_t(edge_owner[e]) % 12];
-    int a = hx[size_t(le[0])], b = hx[size_t(le[1])];
-    if (a > b) std::swap(a, b);
-    for (size_t s = 1; s < size_t(n); ++s)
-      out.nodes[edge_base + e * m + s - 1] = (1 - s * step) * mesh.nodes[size_t(a)] + s * step * mesh.nodes[size_t(b)];
-  }
-  // Face node (s, t) of the canonical frame q0 q1 q2 q3: s along q0->q1, t along q0->q3.
-  for (size_t f = 0; f < n_faces; ++f) {
-    const auto ring = face_ids(size_t(face_owner[f]));
-    const auto order = canonical_ring_order(ring);
-    const Vec3& q0 = mesh.nodes[size_t(ring[size_t(order[0])])];
-    const Vec3& q1 = mesh.nodes[size_t(ring[size_t(order[1])])];
-    const Vec3& q2 = mesh.nodes[size_t(ring[size_t(order[2])])];
-    const Vec3& q3 = mesh.nodes[size_t(ring[size_t(order[3])])];
-    for (size_t s = 1; s < size_t(n); ++s)
-      for (size_t t = 1; t < size_t(n); ++t) {
-        const double u = s * step, v = t * step;
-        out.nodes[face_base + f * m * m + (s - 1) * m + (t - 1)] =
-            (1 - u) * (1 - v) * q0 + u * (1 - v) * q1 + u * v * q2 + (1 - u) * v * q3;
-      }
-  }
 
   // Per hex: the (n+1)^3 grid of node ids, then its n^3 sub-hexes.
   const size_t g = size_t(n) + 1;
@@ -167,7 +150,15 @@ HexMesh dice(const HexMesh& mesh, int n) {
     for (int e = 0; e < 12; ++e) {
       int a = kHexEdges[e][0], b = kHexEdges[e][1];
       if (hx[size_t(a)] > hx[size_t(b)]) std::swap(a, b);
-      const size_t edge = size_t(hex_edge[12 * h + size_t(e)]);
+      int& number = edge_number[size_t(hex_edge[12 * h + size_t(e)])];
+      if (number < 0) {  // first use: its nodes run from the smaller to the larger end node
+        number = next_edge++;
+        const Vec3& pa = mesh.nodes[size_t(hx[size_t(a)])];
+        const Vec3& pb = mesh.nodes[size_t(hx[size_t(b)])];
+        for (size_t s = 1; s < size_t(n); ++s)
+          out.nodes[edge_base + size_t(number) * m + s - 1] = (1 - s * step) * pa + s * step * pb;
+      }
+      const size_t edge = size_t(number);
       for (size_t s = 1; s < size_t(n); ++s) {
         size_t p[3];
         for (int axis = 0; axis < 3; ++axis)
@@ -179,7 +170,21 @@ HexMesh dice(const HexMesh& mesh, int n) {
       const auto ring = face_ids(6 * h + size_t(f));
       const auto order = canonical_ring_order(ring);
       const int c0 = kHexFaces[f][order[0]], c1 = kHexFaces[f][order[1]], c3 = kHexFaces[f][order[3]];
-      const size_t face = size_t(hex_face[6 * h + size_t(f)]);
+      int& number = face_number[size_t(hex_face[6 * h + size_t(f)])];
+      if (number < 0) {  // first use: node (s, t) of the frame q0..q3 is s along q0->q1, t along q0->q3
+        number = next_face++;
+        const Vec3& q0 = mesh.nodes[size_t(ring[size_t(order[0])])];
+        const Vec3& q1 = mesh.nodes[size_t(ring[size_t(order[1])])];
+        const Vec3& q2 = mesh.nodes[size_t(ring[size_t(order[2])])];
+        const Vec3& q3 = mesh.nodes[size_t(ring[size_t(order[3])])];
+        for (size_t s = 1; s < size_t(n); ++s)
+          for (size_t t = 1; t < size_t(n); ++t) {
+            const double u = s * step, v = t * step;
+            out.nodes[face_base + size_t(number) * m * m + (s - 1) * m + (t - 1)] =
+                (1 - u) * (1 - v) * q0 + u * (1 - v) * q1 + u * v * q2 + (1 - u) * v * q3;
+          }
+      }
+      const size_t face = size_t(number);
       for (size_t s = 1; s < size_t(n); ++s)
         for (size_t t = 1; t < size_t(n); ++t) {
           size_t p[3];
@@ -212,8 +217,8 @@ HexMesh dice(const HexMesh& mesh, int n) {
     out.boundary_facet.assign(out.nodes.size(), -1);
     std::copy(mesh.boundary_facet.begin(), mesh.boundary_facet.end(), out.boundary_facet.begin());
     for (size_t item = 0; item < hex_face.size(); ++item) {
-      const size_t face = size_t(hex_face[item]);
-      if (face_uses[face] != 1) continue;
+      if (face_uses[size_t(hex_face[item])] != 1) continue;
+      const size_t face = size_t(face_number[size_t(hex_face[item])]);
       const auto ring = face_ids(item);
       int newest = -1;
       for (int c : ring)
@@ -223,7 +228,7 @@ HexMesh dice(const HexMesh& mesh, int n) {
       for (size_t i = 0; i < m * m; ++i) out.boundary_facet[face_base + face * m * m + i] = facet;
       const auto& lf = kHexFaces[item % 6];
       for (int k = 0; k < 4; ++k) {
-        const size_t edge = size_t(hex_edge[12 * (item / 6) + size_t(local_edge(lf[k], lf[(k + 1) % 4]))]);
+        const size_t edge = size_t(edge_number[size_t(hex_edge[12 * (item / 6) + size_t(local_edge(lf[k], lf[(k + 1) % 4]))])]);
         for (size_t s = 0; s < m; ++s)
           if (out.boundary_facet[edge_base + edge * m + s] < 0) out.boundary_facet[edge_base + edge * m + s] = facet;
       }

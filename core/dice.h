@@ -15,8 +15,9 @@ namespace dthex {
 //! edges and faces by their smallest node, so time and memory are linear in the output.
 //!
 //! Numbering: the input nodes first with their indices unchanged, then (n-1) nodes per
-//! unique edge, (n-1)^2 per unique face, (n-1)^3 per hex. Sub-hexes keep the parent's
-//! orientation and VTK node order.
+//! unique edge, (n-1)^2 per unique face (edges and faces in order of first use by the
+//! hexes), (n-1)^3 per hex. The n^3 sub-hexes of hex h are h*n^3 ... (h+1)*n^3-1 and
+//! keep the parent's orientation and VTK node order.
 //!
 //! boundary_facet (when the input has it): a face used by exactly one hex is a boundary
 //! face; its new nodes, and the new nodes of its edges, get the face's facet, which is

@@ -34,6 +34,9 @@ class TriangleBvh {
   void for_each_overlapping_pair(const std::function<void(int, int)>& visit) const;
 
   size_t size() const { return triangles_.size(); }
+  //! The surface the tree was built on (the untangler reads triangle normals from it).
+  const std::vector<Vec3>& points() const { return points_; }
+  const std::vector<std::array<int, 3>>& triangles() const { return triangles_; }
   const Eigen::AlignedBox3d& bounds() const;
 
  private:

@@ -360,8 +360,10 @@ SurfaceStats verify_surface(TriSurface& surface, const std::string& name, const 
     if ((volume[size_t(c)] > 0) == cavity) {
       volume[size_t(c)] = -volume[size_t(c)];
       ++stats.flipped_components;
-      for (int t = 0; t < nt; ++t)
-        if (component[size_t(t)] == c) std::swap(T[size_t(t)][1], T[size_t(t)][2]);
+      if (component_count == 1)
+        for (Triangle& tri : T) std::swap(tri[1], tri[2]);
+      else
+        for (int t : triangles_of[size_t(c)]) std::swap(T[size_t(t)][1], T[size_t(t)][2]);
     }
   }
 

@@ -301,6 +301,16 @@ TEST(VerifySurface, SelfIntersections) {
   // Coplanar faces overlapping in the plane z = 0 (the tetrahedra lie on opposite sides).
   expect_refused(join(base, tet_at(Vec3(0.3, 0.3, 0), Vec3(1.3, 0.3, 0), Vec3(0.3, 1.3, 0), Vec3(0.3, 0.3, -1))),
                  "self-intersection", "triangle");
+  // Triangles sharing exactly one vertex and crossing beyond it: in a triangular bipyramid
+  // every pair of triangles shares a vertex, so only the shared-vertex test can see this.
+  TriSurface bipyramid;
+  bipyramid.points = {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(0, 2, 0), Vec3(0.5, 0.5, 1), Vec3(0.5, 0.5, -1)};
+  bipyramid.triangles = {{3, 0, 1}, {3, 1, 2}, {3, 2, 0}, {4, 1, 0}, {4, 2, 1}, {4, 0, 2}};
+  TriSurface valid = bipyramid;
+  EXPECT_NO_THROW(verify_surface(valid, "bipyramid"));
+  bipyramid.points[4] = Vec3(1.5, -1, 1.4);  // edge 4-2 now pierces triangle {3, 0, 1} (shared vertex 1)
+  expect_refused(bipyramid, "self-intersection", "triangle 0 [3 (0.5, 0.5, 1), 0 (0, 0, 0), 1 (2, 0, 0)]");
+
   // The same shapes separated by a gap are fine: the test does not over-report.
   TriSurface apart = join(base, tet_at(Vec3(0.3, 0.3, -0.001), Vec3(1.3, 0.3, -0.001), Vec3(0.3, 1.3, -0.001),
                                        Vec3(0.3, 0.3, -1)));

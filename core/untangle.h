@@ -1,0 +1,60 @@
+// SPDX-License-Identifier: MIT
+// Step 9b of DTHex: after projection, remove every inverted hex corner and improve shape.
+// Energy: Garanzha et al. 2021, "Foldover-free maps in 50 lines of code", over the 8 corner
+// Jacobians and the centre Jacobian of each hex (the nine places Verdict's scaled Jacobian
+// looks at), each normalized by the hex's own edge length. Its regularized determinant
+// makes the energy finite on inverted corners, and the continuation on epsilon turns it
+// into a barrier once everything is valid, so the shape pass that follows never re-inverts.
+#pragma once
+
+#include "core/triangle_bvh.h"
+#include "core/types.h"
+
+#include <vector>
+
+namespace dthex {
+
+struct UntangleOptions {
+  //! Weight of the size term against the shape term of the energy (Garanzha's theta).
+  double theta = 0.5;
+  //! Hexes whose scaled Jacobian is below this are repaired locally: the nodes within
+  //! `region_rings` hex rings of them move, the rest of the mesh stays put.
+  double target_scaled_jacobian = 0.2;
+  int region_rings = 2;
+  //! Epsilon-continuation rounds per local repair, and L-BFGS iterations per round.
+  int max_rounds = 20;
+  int max_lbfgs_iterations = 100;
+  //! The global shape pass over every interior node: rounds and L-BFGS iterations per
+  //! round (0 iterations skips it). Once nothing is inverted it is a barrier: it never
+  //! re-inverts.
+  int smoothing_rounds = 2;
+  int smoothing_iterations = 150;
+  //! Where moving interior nodes is not enough, let the boundary nodes of the repair
+  //! region slide on the surface (tangent-plane moves, then back onto the surface), in up
+  //! to this many passes.
+  bool slide_boundary = true;
+  int max_boundary_phases = 3;
+  //! The run stops (and reports what it reached) after this much wall time.
+  double time_limit_seconds = 120.0;
+  //! Length of worst_hexes in the report.
+  size_t report_worst = 10;
+};
+
+struct UntangleReport {
+  size_t inverted_before = 0, inverted_after = 0;  //!< hexes with scaled Jacobian <= 0
+  double min_scaled_jacobian = 0;                   //!< after
+  double avg_shape = 0, min_shape = 0;              //!< after
+  std::vector<size_t> worst_hexes;                  //!< lowest scaled Jacobian first
+  size_t sliding_boundary_nodes = 0;  //!< boundary nodes that were allowed to move
+  int rounds = 0;                     //!< epsilon-continuation rounds run in all
+  double seconds = 0;
+  bool time_limit_reached = false;
+};
+
+//! Moves interior nodes (and, where needed, boundary nodes along the surface of
+//! `fine_bvh`) until no hex has a non-positive scaled Jacobian, then improves shape.
+//! Boundary nodes are those with boundary_facet >= 0 and every node of a boundary quad.
+//! Never throws on failure to untangle: the report says what is left.
+UntangleReport untangle_and_smooth(HexMesh& mesh, const TriangleBvh& fine_bvh, const UntangleOptions& options = {});
+
+}  // namespace dthex
