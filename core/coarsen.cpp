@@ -214,7 +214,8 @@ CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options) {
   if (input.triangles.empty()) throw InputError("coarsen: the surface has no triangles");
 
   // Sizing field and features on the input.
-  const SurfaceMesh input_mesh = to_openmesh(input);
+  SurfaceMesh input_mesh = to_openmesh(input);
+  mark_features(input_mesh, options.feature_angle_deg);  // sizing follows feature lines, not creases
   CurvatureSizingOptions sizing;
   sizing.eps = options.eps;
   sizing.h_min = options.h_min;

@@ -15,7 +15,9 @@ namespace dthex {
 struct PipelineOptions {
   double eps = 0.1;                 //!< coarsening factor (sagitta / radius), in (0, 1)
   int dice = 2;                     //!< each hex into dice^3
+  double h_min = 0;                 //!< smallest coarse edge size, input units; 0 = automatic
   double h_max = 0;                 //!< largest coarse edge, input units; 0 = automatic
+  double max_edge_ratio = 1.4142135623730951;  //!< no collapse makes an edge longer than this x its size
   bool thex_only = false;           //!< classic THex of the input: no coarsening, dicing, projection
   bool project = true;              //!< put the boundary back on the input surface
   bool strict = false;              //!< fail (MeshingError) if an inverted hex remains

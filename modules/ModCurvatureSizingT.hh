@@ -24,8 +24,9 @@ namespace dthex {
 struct CurvatureSizingOptions {
   //! Coarsening factor: the allowed sagitta of an edge relative to the local radius.
   double eps = 0.1;
-  //! Smallest size. 0 = automatic: 2 x the mean input edge length. Scan noise gives tiny
-  //! radii everywhere; this floor still lets every region lose about 3/4 of its vertices.
+  //! Smallest size. 0 = automatic: the mean input edge length. Scan noise gives tiny radii;
+  //! this floor keeps them from pinning the input resolution below its own average, while an
+  //! input that is already coarse (every edge near the mean) is not coarsened by the floor alone.
   double h_min = 0;
   //! Largest size. 0 = automatic: half the bounding-box diagonal (a flat region is bounded
   //! by its own outline long before that; the cap only stops rho = infinity on planes).
@@ -58,13 +59,52 @@ typename Mesh::Point vertex_normal(const Mesh& mesh, typename Mesh::VertexHandle
   return len > 0 ? Point(n / len) : n;
 }
 
+//! rho_P on a feature line (a vertex with exactly two feature edges): the radius of the
+//! line itself (circle through P and its two feature neighbours), and on each side of the
+//! crease the osculating radius measured with that side's normal. The averaged vertex
+//! normal would see the crease as a tight curve and pin the whole line at h_min.
+template <class Mesh>
+double feature_line_radius(const Mesh& mesh, typename Mesh::VertexHandle v) {
+  using Point = typename Mesh::Point;
+  const Point p = mesh.point(v);
+  std::vector<Point> along;
+  double r = std::numeric_limits<double>::infinity();
+  for (auto h : mesh.voh_range(v)) {
+    const Point q = mesh.point(mesh.to_vertex_handle(h));
+    if (mesh.status(mesh.edge_handle(h)).feature()) {
+      along.push_back(q);
+      continue;
+    }
+    Point n(0, 0, 0);
+    for (auto fh : {mesh.face_handle(h), mesh.opposite_face_handle(h)})
+      if (fh.is_valid()) n += mesh.calc_face_normal(fh);
+    if (n.norm() > 0) r = std::min(r, osculating_radius(p, Point(n / n.norm()), q));
+  }
+  if (along.size() == 2) {
+    const Point a = along[0] - p, b = along[1] - p;
+    const double cross = (a % b).norm();
+    if (cross > 1e-12 * a.norm() * b.norm())
+      r = std::min(r, (a.norm() * b.norm() * (a - b).norm()) / (2.0 * cross));  // circumradius
+  }
+  return r;
+}
+
 //! rho_P for every vertex (indexed by vertex idx): the smallest osculating radius over
 //! P's edges, infinity where every edge is tangent (planes). Deleted vertices get infinity.
+//! Where edges carry feature status, vertices on a feature line use feature_line_radius.
 template <class Mesh>
 std::vector<double> osculating_radii(const Mesh& mesh) {
   std::vector<double> rho(mesh.n_vertices(), std::numeric_limits<double>::infinity());
   for (auto v : mesh.vertices()) {
     if (mesh.has_vertex_status() && mesh.status(v).deleted()) continue;
+    if (mesh.has_edge_status()) {
+      int feature_edges = 0;
+      for (auto e : mesh.ve_range(v)) feature_edges += mesh.status(e).feature() ? 1 : 0;
+      if (feature_edges == 2) {
+        rho[size_t(v.idx())] = feature_line_radius(mesh, v);
+        continue;
+      }
+    }
     const auto n = vertex_normal(mesh, v);
     double r = std::numeric_limits<double>::infinity();
     for (auto q : mesh.vv_range(v)) r = std::min(r, osculating_radius(mesh.point(v), n, mesh.point(q)));
@@ -109,7 +149,7 @@ std::pair<double, double> sizing_bounds(const Mesh& mesh, const CurvatureSizingO
       sum += mesh.calc_edge_length(e);
       ++count;
     }
-    h_min = count ? 2.0 * sum / double(count) : 0.0;
+    h_min = count ? sum / double(count) : 0.0;
   }
   if (h_max <= 0) {
     typename Mesh::Point lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());

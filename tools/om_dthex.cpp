@@ -1,4 +1,201 @@
 // SPDX-License-Identifier: MIT
-// om_dthex: closed triangle surface in, all-hexahedral mesh out.
+// om_dthex: closed triangle surface in, all-hexahedral mesh out (DTHex).
+// Exit codes: 0 success; 2 bad input or usage; 3 meshing failed; 1 internal error.
+#include "core/atomic_file.h"
+#include "core/pipeline.h"
+#include "core/report.h"
+#include "core/write_hex_mesh.h"
+#include "core/write_surface.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cmath>
 #include <cstdio>
-int main() { std::puts("om_dthex: not yet wired"); return 0; }
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kExitOk = 0, kExitInternal = 1, kExitInput = 2, kExitMeshing = 3;
+
+struct CommandLine {
+  std::string input, output, report, coarse_surface;
+  dthex::PipelineOptions pipeline;
+  bool quiet = false, verbose = false, verify_only = false;
+};
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+// Fails early, before any meshing, when an output could never be written.
+void check_writable(const std::string& option, const std::string& path) {
+  fs::path folder = fs::path(path).parent_path();
+  if (folder.empty()) folder = ".";
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec))
+    throw dthex::InputError(option + " '" + path + "': folder '" + folder.string() + "' does not exist");
+  if (::access(folder.c_str(), W_OK) != 0)
+    throw dthex::InputError(option + " '" + path + "': folder '" + folder.string() + "' is not writable");
+}
+
+void validate(CommandLine& cl) {
+  if (cl.output.empty()) {
+    const fs::path in(cl.input);
+    cl.output = (in.parent_path() / (in.stem().string() + "_hex.vtu")).string();
+  }
+  try {
+    dthex::hex_format_from_path(cl.output);
+  } catch (const dthex::InputError& e) {
+    throw dthex::InputError(std::string("-o/--output: ") + e.what());
+  }
+  check_writable("-o/--output", cl.output);
+  if (!cl.report.empty()) {
+    const std::string ext = lower_extension(cl.report);
+    if (ext != ".json")
+      throw dthex::InputError("--report '" + cl.report + "': unsupported extension '" + ext + "' (use .json)");
+    check_writable("--report", cl.report);
+  }
+  if (!cl.coarse_surface.empty()) {
+    const std::string ext = lower_extension(cl.coarse_surface);
+    if (ext != ".off" && ext != ".obj" && ext != ".stl" && ext != ".ply")
+      throw dthex::InputError("--coarse-surface '" + cl.coarse_surface + "': unsupported extension '" + ext +
+                              "' (use .off, .obj, .stl or .ply)");
+    check_writable("--coarse-surface", cl.coarse_surface);
+  }
+}
+
+void write_text(const std::string& path, const std::string& text) {
+  dthex::write_atomically(path, [&](const std::string& temporary) {
+    std::ofstream out(temporary, std::ios::binary);
+    out << text;
+    out.flush();
+    if (!out) throw std::runtime_error("cannot write '" + path + "' (disk full?)");
+  });
+}
+
+int run(CommandLine& cl) {
+  validate(cl);
+  dthex::install_interrupt_cleanup();
+  dthex::Progress progress(dthex::Progress::mode_for(stderr, cl.quiet));
+
+  if (cl.verify_only) {
+    const dthex::PipelineResult r = dthex::read_and_verify(cl.input, progress);
+    if (!cl.quiet) {
+      const auto& s = r.input_summary;
+      std::printf("%s: valid closed surface: %zu vertices, %zu triangles, %zu component(s), %zu cavit%s, genus %d\n"
+                  "  volume %.6g, bbox diagonal %.6g%s\n"
+                  "  triangle shape avg %.4f std %.4f min %.4f max %.4f\n",
+                  cl.input.c_str(), s.vertices, s.triangles, s.components, s.cavities, s.cavities == 1 ? "y" : "ies",
+                  s.genus, s.volume, s.bbox_diagonal, s.flipped_components ? " (orientation flipped to outward)" : "",
+                  s.shape.avg, s.shape.std_dev, s.shape.min, s.shape.max);
+    }
+    return kExitOk;
+  }
+
+  dthex::PipelineResult result = dthex::run_pipeline(cl.input, cl.pipeline, progress);
+
+  progress.begin("write");
+  dthex::HexFields fields{result.quality.shape, result.quality.scaled_jacobian};
+  dthex::write_hex_mesh(result.hexes, cl.output, fields);
+  if (!cl.coarse_surface.empty()) dthex::write_surface(result.coarse, cl.coarse_surface);
+  if (!cl.report.empty()) write_text(cl.report, dthex::report_json(result, cl.pipeline));
+  progress.end(cl.output);
+
+  if (!cl.quiet) {
+    std::fputs(dthex::summary_table(result, cl.pipeline).c_str(), stdout);
+    std::printf("  wrote %s\n", cl.output.c_str());
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CommandLine cl;
+  CLI::App app{
+      "om_dthex: turns a closed triangle surface (OFF, OBJ, STL, PLY) into an all-hexahedral mesh by DTHex:\n"
+      "coarsen by curvature, tet-mesh (TetGen), THex, dice, put the boundary back on the input surface,\n"
+      "untangle. Exit codes: 0 success, 2 bad input or usage, 3 meshing failed, 1 internal error.",
+      "om_dthex"};
+  app.add_option("INPUT", cl.input, "closed triangle surface: .off .obj .stl (ASCII or binary) .ply")->required();
+  app.add_option("-o,--output", cl.output,
+                 "hex mesh to write; the extension picks the format: .vtu (ParaView), .vtk (legacy), .msh (Gmsh 4.1),\n"
+                 ".inp (Abaqus), .feb (FEBio 4), .exo (Exodus II). Default: INPUT-stem_hex.vtu beside the input");
+  app.add_option("--eps", cl.pipeline.eps,
+                 "coarsening factor eps in (0,1): allowed sagitta / curvature radius; target edge\n"
+                 "h = 2 sqrt(eps (2 - eps)) * radius. Larger = coarser")
+      ->default_val(0.1)
+      ->check(CLI::Range(1e-6, 0.999999).description("in (0, 1)"));
+  app.add_option("--dice", cl.pipeline.dice, "split every THex hex into N^3 hexes")
+      ->default_val(2)
+      ->check(CLI::Range(1, 8));
+  app.add_option("--hmin", cl.pipeline.h_min,
+                 "smallest target edge length, in input units: a floor under the curvature size so that scan noise\n"
+                 "does not keep tiny triangles (0 = automatic: the input's mean edge length)")
+      ->default_val(0.0)
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--hmax", cl.pipeline.h_max,
+                 "largest coarse edge length, in input units (0 = automatic: half the bounding-box diagonal; flat regions are bounded by their outline)")
+      ->default_val(0.0)
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--max-edge-ratio", cl.pipeline.max_edge_ratio,
+                 "a collapse is refused if it makes an edge longer than this times the local size (normalized length)")
+      ->default_val(std::sqrt(2.0))
+      ->check(CLI::Range(1.0, 4.0));
+  app.add_flag("--thex-only", cl.pipeline.thex_only,
+               "classic THex of the input (tet-mesh, 4 hexes per tet): no coarsening, dicing or projection; the baseline");
+  app.add_flag("--no-project", [&](std::int64_t) { cl.pipeline.project = false; },
+               "keep the coarse geometry: no projection onto the input surface, no untangling");
+  app.add_flag("--strict", cl.pipeline.strict, "exit 3 and write nothing if any inverted hex remains");
+  app.add_flag("--global-smoothing", cl.pipeline.global_smoothing,
+               "also smooth the coarse surface globally (area-weighted centroid pull), as the paper compares");
+  app.add_option("--tetgen", cl.pipeline.tetgen_switches,
+                 "TetGen switches (Y keeps the surface; q ratio bound; a volume bound)")
+      ->default_val("pq1.2Y");
+  app.add_option("--time-limit", cl.pipeline.time_limit_seconds,
+                 "seconds allowed for TetGen and for the optimizer, each; exceeded = exit 3")
+      ->default_val(600.0)
+      ->check(CLI::PositiveNumber);
+  app.add_option("--report", cl.report, "write a JSON report (statistics, histograms, timings, options)");
+  app.add_option("--coarse-surface", cl.coarse_surface, "also write the coarse surface (.off .obj .stl .ply)");
+  app.add_flag("--verify-only", cl.verify_only, "only read and verify the input, print its statistics");
+  app.add_flag("-q,--quiet", cl.quiet, "no progress and no summary; errors still go to stderr");
+  app.add_flag("-v,--verbose", cl.verbose, "more detail");
+  app.set_version_flag("--version", std::string("om_dthex ") + DTHEX_VERSION);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "om_dthex: %s (see om_dthex --help)\n", e.what());
+    return kExitInput;
+  }
+
+  try {
+    return run(cl);
+  } catch (const dthex::InputError& e) {
+    std::fprintf(stderr, "om_dthex: error: %s\n", e.what());
+    return kExitInput;
+  } catch (const dthex::MeshingError& e) {
+    std::fprintf(stderr, "om_dthex: meshing failed: %s: %s\n", cl.input.c_str(), e.what());
+    return kExitMeshing;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "om_dthex: error: %s: out of memory\n", cl.input.c_str());
+    dthex::remove_pending_temporaries();
+    return kExitMeshing;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "om_dthex: internal error on %s: %s\n", cl.input.c_str(), e.what());
+    dthex::remove_pending_temporaries();
+    return kExitInternal;
+  }
+}

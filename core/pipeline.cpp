@@ -1,0 +1,188 @@
+// SPDX-License-Identifier: MIT
+#include "core/pipeline.h"
+
+#include "core/coarsen.h"
+#include "core/conformity.h"
+#include "core/dice.h"
+#include "core/project_boundary.h"
+#include "core/read_surface.h"
+#include "core/surface_distance.h"
+#include "core/tetrahedralize.h"
+#include "core/thex.h"
+#include "core/triangle_bvh.h"
+#include "core/untangle.h"
+#include "core/verify_surface.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+namespace dthex {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+SurfaceSummary summarize_surface(const SurfaceStats& stats) {
+  SurfaceSummary s;
+  s.vertices = stats.vertices;
+  s.triangles = stats.triangles;
+  s.components = stats.components;
+  s.cavities = stats.cavities;
+  s.genus = stats.genus;
+  s.volume = stats.volume;
+  s.bbox_diagonal = stats.bbox_diagonal;
+  s.flipped_components = stats.flipped_components;
+  s.shape = stats.triangle_shape;
+  return s;
+}
+
+std::string count_text(const char* what, size_t n) {
+  std::ostringstream out;
+  out << n << ' ' << what;
+  return out.str();
+}
+
+// Times one stage, reports it on the progress line and records it in the result.
+template <class Fn>
+auto timed_stage(PipelineResult& result, Progress& progress, const std::string& name, Fn&& fn) {
+  progress.begin(name);
+  const auto start = Clock::now();
+  auto detail = fn();
+  const double seconds = seconds_since(start);
+  progress.end(detail);
+  result.stages.push_back({name, seconds, detail});
+  return detail;
+}
+
+std::vector<size_t> worst_by(const std::vector<double>& values, size_t how_many) {
+  std::vector<size_t> ids(values.size());
+  std::iota(ids.begin(), ids.end(), size_t(0));
+  how_many = std::min(how_many, ids.size());
+  std::partial_sort(ids.begin(), ids.begin() + long(how_many), ids.end(),
+                    [&](size_t a, size_t b) { return values[a] < values[b]; });
+  ids.resize(how_many);
+  return ids;
+}
+
+}  // namespace
+
+PipelineResult read_and_verify(const std::string& input_path, Progress& progress) {
+  PipelineResult result;
+  result.input_path = input_path;
+  timed_stage(result, progress, "read", [&] {
+    result.input = read_surface(input_path);
+    return count_text("triangles", result.input.triangles.size());
+  });
+  timed_stage(result, progress, "verify", [&] {
+    result.input_summary = summarize_surface(verify_surface(result.input, input_path));
+    std::ostringstream out;
+    out << result.input_summary.components << " component(s), genus " << result.input_summary.genus;
+    if (result.input_summary.flipped_components) out << ", orientation flipped";
+    return out.str();
+  });
+  return result;
+}
+
+PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions& options, Progress& progress) {
+  const auto start = Clock::now();
+  PipelineResult result = read_and_verify(input_path, progress);
+  const TriangleBvh input_bvh(result.input);
+
+  if (options.thex_only) {
+    result.coarse = result.input;
+    result.coarse_summary = result.input_summary;
+  } else {
+    timed_stage(result, progress, "coarsen", [&] {
+      CoarsenOptions coarsen_options;
+      coarsen_options.eps = options.eps;
+      coarsen_options.h_min = options.h_min;
+      coarsen_options.h_max = options.h_max;
+      coarsen_options.max_normalized_length = options.max_edge_ratio;
+      coarsen_options.global_smoothing = options.global_smoothing;
+      coarsen_options.progress = [&](double f) { progress.update(f); };
+      CoarsenResult coarse = coarsen(result.input, coarsen_options);
+      result.coarse = std::move(coarse.surface);
+      return count_text("triangles", result.coarse.triangles.size());
+    });
+    timed_stage(result, progress, "verify coarse", [&] {
+      // The guard in front of TetGen: a self-intersecting coarse surface would crash it.
+      try {
+        result.coarse_summary = summarize_surface(verify_surface(result.coarse, input_path + " (coarse surface)"));
+      } catch (const InputError& e) {
+        throw MeshingError(std::string("coarsening produced an invalid surface: ") + e.what());
+      }
+      return count_text("vertices", result.coarse_summary.vertices);
+    });
+  }
+
+  TetMesh tets;
+  timed_stage(result, progress, "tetrahedralize", [&] {
+    TetgenOptions tet_options;
+    tet_options.switches = options.tetgen_switches;
+    tet_options.time_limit_seconds = options.time_limit_seconds;
+    tets = tetrahedralize(result.coarse, tet_options);
+    result.tets = tets.tets.size();
+    result.tet_shape = summarize(tet_shapes(tets));
+    return count_text("tets", result.tets);
+  });
+
+  timed_stage(result, progress, "thex", [&] {
+    result.hexes = thex(tets);
+    return count_text("hexes", result.hexes.hexes.size());
+  });
+  tets = TetMesh{};
+
+  if (!options.thex_only && options.dice > 1) {
+    timed_stage(result, progress, "dice", [&] {
+      result.hexes = dice(result.hexes, options.dice);
+      return count_text("hexes", result.hexes.hexes.size());
+    });
+  }
+
+  if (!options.thex_only && options.project) {
+    timed_stage(result, progress, "project", [&] {
+      project_boundary(result.hexes, result.coarse, result.input, input_bvh);
+      return count_text("nodes", result.hexes.nodes.size());
+    });
+    timed_stage(result, progress, "untangle", [&] {
+      UntangleOptions untangle_options;
+      untangle_options.time_limit_seconds = options.time_limit_seconds;
+      const UntangleReport report = untangle_and_smooth(result.hexes, input_bvh, untangle_options);
+      result.inverted_before_untangle = report.inverted_before;
+      std::ostringstream out;
+      out << report.inverted_before << " inverted before, " << report.inverted_after << " after";
+      return out.str();
+    });
+  }
+
+  timed_stage(result, progress, "measure", [&] {
+    result.quality = measure_hex_quality(result.hexes);
+    result.conforming = check_conformity(result.hexes).conforming();
+    const TriSurface boundary = quads_to_triangles(result.hexes.nodes, boundary_quads(result.hexes));
+    result.hex_volume = enclosed_volume(boundary);
+    const TriangleBvh boundary_bvh(boundary);
+    const SurfaceDistance distance = surface_distance(boundary, boundary_bvh, result.input, input_bvh);
+    result.hausdorff = distance.hausdorff;
+    result.mean_distance = distance.mean;
+    result.worst_hexes = worst_by(result.quality.scaled_jacobian, 10);
+    return count_text("inverted", result.quality.inverted);
+  });
+
+  result.total_seconds = seconds_since(start);
+  if (options.strict && result.quality.inverted > 0) {
+    std::ostringstream out;
+    out << input_path << ": " << result.quality.inverted << " hexes remain inverted (worst: hex "
+        << result.worst_hexes.front() << ", scaled Jacobian " << result.quality.scaled_jacobian_stats.min
+        << "); --strict writes nothing";
+    throw MeshingError(out.str());
+  }
+  return result;
+}
+
+}  // namespace dthex

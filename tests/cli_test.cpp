@@ -1,0 +1,169 @@
+// SPDX-License-Identifier: MIT
+// End-to-end tests of the om_dthex command: exit codes, messages, outputs.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+fs::path scratch(const std::string& name) {
+  fs::path dir = fs::temp_directory_path() / ("dthex_cli_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+CommandResult om_dthex(const std::string& args, const fs::path& dir) {
+  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
+  const std::string command = std::string(DTHEX_BINARY_DIR) + "/om_dthex " + args + " >" + out.string() + " 2>" +
+                              err.string() + " </dev/null";
+  const int status = std::system(command.c_str());
+  CommandResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.out = slurp(out);
+  r.err = slurp(err);
+  fs::remove(out);
+  fs::remove(err);
+  return r;
+}
+
+std::string mesh(const std::string& name) { return std::string(DTHEX_SOURCE_DIR) + "/meshes/" + name; }
+
+size_t files_in(const fs::path& dir) {
+  return size_t(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
+}
+
+void write_file(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
+
+bool have_referee() {
+  const std::string script = std::string(DTHEX_SHARED_DIR) + "/tools/hexeval.py";
+  return fs::exists(script) && std::system("/usr/bin/python3 -c 'import vtk, meshio, scipy' >/dev/null 2>&1") == 0;
+}
+
+}  // namespace
+
+TEST(Cli, HelpExplainsEveryOption) {
+  const fs::path dir = scratch("help");
+  const CommandResult r = om_dthex("--help", dir);
+  EXPECT_EQ(r.exit_code, 0);
+  for (const char* option : {"--output", "--eps", "--dice", "--hmax", "--thex-only", "--no-project", "--strict",
+                             "--tetgen", "--time-limit", "--report", "--coarse-surface", "--quiet", "--verbose"})
+    EXPECT_NE(r.out.find(option), std::string::npos) << option;
+}
+
+TEST(Cli, MissingInputFileIsExit2NamingTheFile) {
+  const fs::path dir = scratch("missing");
+  const CommandResult r = om_dthex((dir / "nope.off").string() + " -o " + (dir / "o.vtu").string(), dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("nope.off"), std::string::npos) << r.err;
+  EXPECT_EQ(files_in(dir), 0u);
+}
+
+TEST(Cli, BadOptionValuesAreExit2NamingTheOption) {
+  const fs::path dir = scratch("badopt");
+  const std::string in = mesh("icosahedron.off");
+  const std::string out = " -o " + (dir / "o.vtu").string();
+  struct Case {
+    std::string args, option;
+  };
+  for (const Case& c : {Case{"--eps -0.1", "--eps"}, Case{"--eps 1", "--eps"}, Case{"--eps abc", "--eps"},
+                        Case{"--dice 0", "--dice"}, Case{"--hmax -1", "--hmax"}, Case{"--time-limit 0", "--time-limit"}}) {
+    const CommandResult r = om_dthex(in + out + " " + c.args, dir);
+    EXPECT_EQ(r.exit_code, 2) << c.args;
+    EXPECT_NE(r.err.find(c.option), std::string::npos) << c.args << ": " << r.err;
+  }
+  const CommandResult unknown = om_dthex(in + " -o " + (dir / "o.xyz").string(), dir);
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("--output"), std::string::npos) << unknown.err;
+  const CommandResult folder = om_dthex(in + " -o /nonexistent_dthex_folder/o.vtu", dir);
+  EXPECT_EQ(folder.exit_code, 2);
+  EXPECT_NE(folder.err.find("--output"), std::string::npos) << folder.err;
+  EXPECT_EQ(files_in(dir), 0u);
+}
+
+TEST(Cli, OpenSurfaceIsRefusedAndWritesNothing) {
+  const fs::path dir = scratch("open");
+  // A tetrahedron with one face missing.
+  write_file(dir / "open.off", "OFF\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n");
+  const CommandResult r = om_dthex((dir / "open.off").string() + " -o " + (dir / "o.vtu").string() + " --report " +
+                             (dir / "r.json").string(),
+                         dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("open.off"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "o.vtu"));
+  EXPECT_FALSE(fs::exists(dir / "r.json"));
+  EXPECT_EQ(files_in(dir), 1u);  // only the input
+}
+
+TEST(Cli, InwardSurfaceIsFlippedAndVerifies) {
+  const fs::path dir = scratch("inward");
+  const CommandResult r = om_dthex(mesh("heart.off") + " --verify-only", dir);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("flipped"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("15552 triangles"), std::string::npos) << r.out;
+}
+
+TEST(Cli, MeshesTheIcosahedronAndTheReportAgreesWithTheReferee) {
+  // The paper's coarse sphere itself: verification, coarsening (nothing to remove),
+  // TetGen, THex, dicing, projection onto itself, untangling, writing, the JSON report.
+  const fs::path dir = scratch("ico");
+  const fs::path out = dir / "ico.vtu", report = dir / "ico.json";
+  const CommandResult r = om_dthex(mesh("icosahedron.off") + " -q --dice 2 -o " + out.string() + " --report " + report.string(), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.out.empty());  // -q
+  ASSERT_TRUE(fs::exists(out));
+  const nlohmann::json j = nlohmann::json::parse(slurp(report));
+  const size_t nodes = j["hex"]["nodes"], hexes = j["hex"]["hexes"], tets = j["tets"]["count"];
+  EXPECT_EQ(hexes, 4 * 8 * tets);  // THex then dicing by 2
+  EXPECT_EQ(j["hex"]["inverted"], 0);
+  EXPECT_TRUE(j["hex"]["conforming"].get<bool>());
+  EXPECT_EQ(j["coarse"]["vertices"], 12);
+  if (!have_referee()) GTEST_SKIP() << "referee (python3-vtk9, meshio, scipy) not available";
+  const fs::path referee = dir / "referee.json";
+  const std::string command = "/usr/bin/python3 " + std::string(DTHEX_SHARED_DIR) + "/tools/hexeval.py " +
+                              out.string() + " --surface " + mesh("icosahedron.off") + " --json >" + referee.string();
+  EXPECT_EQ(std::system(command.c_str()), 0) << "referee says the mesh is not valid";
+  std::string text = slurp(referee);
+  while (!text.empty() && text.back() == '\n') text.pop_back();
+  const nlohmann::json h = nlohmann::json::parse(text.substr(text.rfind('\n') + 1));
+  EXPECT_TRUE(h["valid"].get<bool>());
+  EXPECT_EQ(h["nodes"].get<size_t>(), nodes);
+  EXPECT_EQ(h["hexes"].get<size_t>(), hexes);
+  EXPECT_NEAR(h["shape"]["avg"].get<double>(), j["hex"]["shape"]["avg"].get<double>(), 1e-9);
+  EXPECT_NEAR(h["shape"]["min"].get<double>(), j["hex"]["shape"]["min"].get<double>(), 1e-9);
+  EXPECT_NEAR(h["scaled_jacobian"]["min"].get<double>(), j["hex"]["scaled_jacobian"]["min"].get<double>(), 1e-9);
+}
+
+TEST(Cli, WritesTheCoarseSurfaceAndItVerifies) {
+  const fs::path dir = scratch("coarse");
+  const fs::path coarse = dir / "coarse.off";
+  const CommandResult r = om_dthex(mesh("sphere728.off") + " -q --no-project -o " + (dir / "o.msh").string() +
+                             " --coarse-surface " + coarse.string(),
+                         dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_TRUE(fs::exists(coarse));
+  const CommandResult v = om_dthex(coarse.string() + " --verify-only", dir);
+  EXPECT_EQ(v.exit_code, 0) << v.err;
+  EXPECT_NE(v.out.find("genus 0"), std::string::npos) << v.out;
+  EXPECT_TRUE(fs::exists(dir / "o.msh"));
+}
