@@ -4,6 +4,7 @@
 #include "core/coarsen.h"
 #include "core/conformity.h"
 #include "core/dice.h"
+#include "core/node_count.h"
 #include "core/project_boundary.h"
 #include "core/read_surface.h"
 #include "core/surface_distance.h"
@@ -70,6 +71,77 @@ std::vector<size_t> worst_by(const std::vector<double>& values, size_t how_many)
   return ids;
 }
 
+CoarsenOptions coarsen_options_for(const PipelineOptions& options, double eps) {
+  CoarsenOptions c;
+  c.eps = eps;
+  c.h_min = options.h_min;
+  c.h_max = options.h_max;
+  c.max_normalized_length = options.max_edge_ratio;
+  c.global_smoothing = options.global_smoothing;
+  return c;
+}
+
+TetgenOptions tetgen_options_for(const PipelineOptions& options) {
+  TetgenOptions t;
+  t.switches = options.tetgen_switches;
+  t.time_limit_seconds = options.time_limit_seconds;
+  return t;
+}
+
+// Final node count for a given eps: coarsen and tet-mesh, then count what THex and
+// dicing would make (projection and untangling move nodes, they do not add any).
+size_t predicted_nodes(const TriSurface& input, const PipelineOptions& options, double eps) {
+  TriSurface coarse = coarsen(input, coarsen_options_for(options, eps)).surface;
+  try {
+    verify_surface(coarse, "coarse surface");
+  } catch (const InputError& e) {
+    throw MeshingError(std::string("coarsening produced an invalid surface: ") + e.what());
+  }
+  return diced_thex_nodes(count_tet_entities(tetrahedralize(coarse, tetgen_options_for(options))), options.dice);
+}
+
+// Bisection on log(eps): the node count falls as eps grows (not strictly: it can step).
+double choose_eps_for_nodes(const TriSurface& input, const PipelineOptions& options, const std::string& input_path,
+                            Progress& progress) {
+  const size_t target = options.target_nodes;
+  double fine_eps = 1e-3, coarse_eps = 0.9;
+  const size_t most = predicted_nodes(input, options, fine_eps);
+  const size_t least = predicted_nodes(input, options, coarse_eps);
+  auto unreachable = [&](const std::string& why) {
+    return InputError("--target-nodes " + std::to_string(target) + ": " + input_path + ": " + why);
+  };
+  if (double(target) > 1.1 * double(most))
+    throw unreachable("at most about " + std::to_string(most) + " nodes are reachable with --dice " +
+                      std::to_string(options.dice) + " (eps 0.001, sizes floored at --hmin); use a larger --dice or --hmin");
+  if (double(target) < 0.9 * double(least))
+    throw unreachable("at least " + std::to_string(least) + " nodes are needed with --dice " +
+                      std::to_string(options.dice) + " (eps 0.9; the topology and --hmax bound the coarsening); "
+                      "use a smaller --dice or a larger --hmax");
+  double best_eps = fine_eps;
+  size_t best = most;
+  auto consider = [&](double eps, size_t nodes) {
+    if (std::abs(double(nodes) - double(target)) < std::abs(double(best) - double(target))) {
+      best = nodes;
+      best_eps = eps;
+    }
+  };
+  consider(coarse_eps, least);
+  double lo = std::log(fine_eps), hi = std::log(coarse_eps);
+  const int max_probes = 16;
+  for (int probe = 0; probe < max_probes; ++probe) {
+    progress.update(double(probe + 1) / max_probes);
+    if (std::abs(double(best) - double(target)) <= 0.05 * double(target)) break;
+    const double mid = 0.5 * (lo + hi);
+    const size_t nodes = predicted_nodes(input, options, std::exp(mid));
+    consider(std::exp(mid), nodes);
+    (nodes > target ? lo : hi) = mid;
+  }
+  if (std::abs(double(best) - double(target)) > 0.1 * double(target))
+    throw unreachable("the node count jumps past it; the nearest reachable is " + std::to_string(best) +
+                      " nodes (eps " + std::to_string(best_eps) + ")");
+  return best_eps;
+}
+
 }  // namespace
 
 PipelineResult read_and_verify(const std::string& input_path, Progress& progress) {
@@ -93,18 +165,20 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
   const auto start = Clock::now();
   PipelineResult result = read_and_verify(input_path, progress);
   const TriangleBvh input_bvh(result.input);
+  result.eps = options.eps;
+  if (options.target_nodes > 0 && !options.thex_only) {
+    timed_stage(result, progress, "choose eps", [&] {
+      result.eps = choose_eps_for_nodes(result.input, options, input_path, progress);
+      return "eps " + std::to_string(result.eps) + " for about " + std::to_string(options.target_nodes) + " nodes";
+    });
+  }
 
   if (options.thex_only) {
     result.coarse = result.input;
     result.coarse_summary = result.input_summary;
   } else {
     timed_stage(result, progress, "coarsen", [&] {
-      CoarsenOptions coarsen_options;
-      coarsen_options.eps = options.eps;
-      coarsen_options.h_min = options.h_min;
-      coarsen_options.h_max = options.h_max;
-      coarsen_options.max_normalized_length = options.max_edge_ratio;
-      coarsen_options.global_smoothing = options.global_smoothing;
+      CoarsenOptions coarsen_options = coarsen_options_for(options, result.eps);
       coarsen_options.progress = [&](double f) { progress.update(f); };
       CoarsenResult coarse = coarsen(result.input, coarsen_options);
       result.coarse = std::move(coarse.surface);
@@ -123,10 +197,7 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
 
   TetMesh tets;
   timed_stage(result, progress, "tetrahedralize", [&] {
-    TetgenOptions tet_options;
-    tet_options.switches = options.tetgen_switches;
-    tet_options.time_limit_seconds = options.time_limit_seconds;
-    tets = tetrahedralize(result.coarse, tet_options);
+    tets = tetrahedralize(result.coarse, tetgen_options_for(options));
     result.tets = tets.tets.size();
     result.tet_shape = summarize(tet_shapes(tets));
     return count_text("tets", result.tets);

@@ -24,6 +24,9 @@ struct PipelineOptions {
   std::string tetgen_switches = "pq1.2Y";
   double time_limit_seconds = 600;  //!< bound for TetGen and the optimizer each
   bool global_smoothing = false;    //!< smooth the coarse surface globally (the paper's comparison)
+  //! If > 0, eps is chosen so the final mesh has about this many nodes (within 10%);
+  //! InputError, with the nearest reachable count, when no eps gets there.
+  size_t target_nodes = 0;
 };
 
 struct StageRecord {
@@ -42,6 +45,7 @@ struct SurfaceSummary {
 
 struct PipelineResult {
   std::string input_path;
+  double eps = 0;                     //!< the coarsening factor used (chosen by --target-nodes or given)
   TriSurface input;
   SurfaceSummary input_summary;
   TriSurface coarse;                  //!< the surface TetGen meshed (the input itself for --thex-only)

@@ -40,7 +40,12 @@ nlohmann::json surface_json(const SurfaceSummary& s) {
 
 std::string summary_table(const PipelineResult& r, const PipelineOptions& o) {
   std::ostringstream out;
-  out << "om_dthex " << DTHEX_VERSION << ": " << r.input_path << (o.thex_only ? " (THex only)" : "") << "\n";
+  out << "om_dthex " << DTHEX_VERSION << ": " << r.input_path;
+  if (o.thex_only)
+    out << " (THex only)";
+  else
+    out << " (eps " << r.eps << ", dice " << o.dice << (o.project ? "" : ", not projected") << ")";
+  out << "\n";
   out << "  stage                  seconds  result\n";
   for (const auto& s : r.stages) {
     char line[160];
@@ -83,7 +88,8 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o) {
   j["tool"] = "om_dthex";
   j["version"] = DTHEX_VERSION;
   j["input"] = {{"path", r.input_path}, {"surface", surface_json(r.input_summary)}};
-  j["options"] = {{"eps", o.eps},
+  j["options"] = {{"eps", r.eps},
+                  {"target_nodes", o.target_nodes},
                   {"dice", o.dice},
                   {"h_max", o.h_max},
                   {"thex_only", o.thex_only},

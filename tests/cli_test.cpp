@@ -167,3 +167,23 @@ TEST(Cli, WritesTheCoarseSurfaceAndItVerifies) {
   EXPECT_NE(v.out.find("genus 0"), std::string::npos) << v.out;
   EXPECT_TRUE(fs::exists(dir / "o.msh"));
 }
+
+TEST(Cli, TargetNodesLandWithinTenPercent) {
+  const fs::path dir = scratch("target");
+  for (size_t target : {9000u, 16000u, 30000u}) {
+    const fs::path report = dir / "r.json";
+    // Projection moves nodes but adds none: --no-project keeps the test fast.
+    const CommandResult r = om_dthex(mesh("liver.off") + " -q --no-project --target-nodes " + std::to_string(target) +
+                                         " -o " + (dir / "o.vtu").string() + " --report " + report.string(),
+                                     dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(slurp(report));
+    const double nodes = j["hex"]["nodes"].get<double>();
+    EXPECT_NEAR(nodes, double(target), 0.1 * double(target)) << "target " << target;
+  }
+  const CommandResult low = om_dthex(mesh("liver.off") + " -q --target-nodes 500 -o " + (dir / "low.vtu").string(), dir);
+  EXPECT_EQ(low.exit_code, 2);
+  EXPECT_NE(low.err.find("--target-nodes"), std::string::npos) << low.err;
+  EXPECT_NE(low.err.find("at least"), std::string::npos) << low.err;
+  EXPECT_FALSE(fs::exists(dir / "low.vtu"));
+}

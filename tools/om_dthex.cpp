@@ -149,6 +149,9 @@ int main(int argc, char** argv) {
                  "a collapse is refused if it makes an edge longer than this times the local size (normalized length)")
       ->default_val(std::sqrt(2.0))
       ->check(CLI::Range(1.0, 4.0));
+  app.add_option("--target-nodes", cl.pipeline.target_nodes,
+                 "choose eps so the hex mesh has about N nodes (within 10%); overrides --eps")
+      ->check(CLI::PositiveNumber);
   app.add_flag("--thex-only", cl.pipeline.thex_only,
                "classic THex of the input (tet-mesh, 4 hexes per tet): no coarsening, dicing or projection; the baseline");
   app.add_flag("--no-project", [&](std::int64_t) { cl.pipeline.project = false; },
