@@ -47,7 +47,7 @@ void Progress::end(const std::string& summary) {
   const double seconds = std::chrono::duration<double>(Clock::now() - started_).count();
   // The summary table repeats every stage: keep only the long ones on record.
   if (mode_ == Mode::Live) std::fprintf(out_, "\r\033[K");
-  if (seconds >= 1.0) std::fprintf(out_, "  %-22s %8.2f s  %s\n", stage_.c_str(), seconds, summary.c_str());
+  if (seconds >= 1.0 || every_stage_) std::fprintf(out_, "  %-22s %8.2f s  %s\n", stage_.c_str(), seconds, summary.c_str());
   std::fflush(out_);
 }
 

@@ -21,6 +21,8 @@ class Progress {
   void update(double fraction);
   void end(const std::string& summary);
   void message(const std::string& text);
+  //! Report every stage when it ends, not only those that took over a second.
+  void set_every_stage(bool every) { every_stage_ = every; }
 
  private:
   using Clock = std::chrono::steady_clock;
@@ -29,6 +31,7 @@ class Progress {
   std::string stage_;
   Clock::time_point started_{}, last_update_{};
   int last_percent_ = -1;
+  bool every_stage_ = false;
 };
 
 }  // namespace dthex

@@ -84,6 +84,7 @@ int run(CommandLine& cl) {
   validate(cl);
   dthex::install_interrupt_cleanup();
   dthex::Progress progress(dthex::Progress::mode_for(stderr, cl.quiet));
+  progress.set_every_stage(cl.verbose);
 
   if (cl.verify_only) {
     const dthex::PipelineResult r = dthex::read_and_verify(cl.input, progress);
@@ -163,14 +164,14 @@ int main(int argc, char** argv) {
                  "TetGen switches (Y keeps the surface; q ratio bound; a volume bound)")
       ->default_val("pq1.2Y");
   app.add_option("--time-limit", cl.pipeline.time_limit_seconds,
-                 "seconds allowed for TetGen and for the optimizer, each; exceeded = exit 3")
+                 "seconds allowed for TetGen (exceeded: exit 3) and for the untangling optimizer (it stops there and\nreports what it reached; with --strict a remaining inverted hex is exit 3)")
       ->default_val(600.0)
       ->check(CLI::PositiveNumber);
   app.add_option("--report", cl.report, "write a JSON report (statistics, histograms, timings, options)");
   app.add_option("--coarse-surface", cl.coarse_surface, "also write the coarse surface (.off .obj .stl .ply)");
   app.add_flag("--verify-only", cl.verify_only, "only read and verify the input, print its statistics");
   app.add_flag("-q,--quiet", cl.quiet, "no progress and no summary; errors still go to stderr");
-  app.add_flag("-v,--verbose", cl.verbose, "more detail");
+  app.add_flag("-v,--verbose", cl.verbose, "print every stage as it ends, not only those over a second");
   app.set_version_flag("--version", std::string("om_dthex ") + DTHEX_VERSION);
 
   try {
