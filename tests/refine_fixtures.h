@@ -2,6 +2,7 @@
 // Small procedural meshes shared by the THex, dicing and conformity tests.
 #pragma once
 
+#include "core/read_surface.h"
 #include "core/types.h"
 
 #include <array>
@@ -16,22 +17,7 @@
 
 namespace dthex::fixtures {
 
-//! Minimal OFF reader for triangle files (tests only).
-inline TriSurface read_off(const std::string& path) {
-  std::ifstream in(path);
-  TriSurface s;
-  std::string magic;
-  size_t nv = 0, nf = 0, ne = 0;
-  if (!(in >> magic >> nv >> nf >> ne) || magic != "OFF") return s;
-  s.points.resize(nv);
-  for (auto& p : s.points) in >> p.x() >> p.y() >> p.z();
-  s.triangles.resize(nf);
-  for (auto& t : s.triangles) {
-    int k = 0;
-    in >> k >> t[0] >> t[1] >> t[2];
-  }
-  return s;
-}
+inline TriSurface read_off(const std::string& path) { return read_surface(path); }
 
 //! The 20 tets joining a closed convex surface's triangles to one centre node
 //! (the paper's icosahedron sphere), with the triangles as boundary faces.

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Times the refinement core on one surface: TetGen vs THex vs dicing.
 // Usage: refine_bench SURFACE.off [tetgen switches, default pq1.2Y] [dice n, default 2]
+#include "core/read_surface.h"
 #include "core/conformity.h"
 #include "core/dice.h"
 #include "core/quality.h"
@@ -15,24 +16,7 @@
 
 namespace {
 
-//! Minimal OFF reader (triangles only); the product's readers live in core/read_surface.
-dthex::TriSurface read_off(const std::string& path) {
-  std::ifstream in(path);
-  std::string magic;
-  size_t nv = 0, nf = 0, ne = 0;
-  if (!(in >> magic >> nv >> nf >> ne) || magic != "OFF") throw dthex::InputError(path + ": not an OFF file");
-  dthex::TriSurface s;
-  s.points.resize(nv);
-  for (auto& p : s.points) in >> p.x() >> p.y() >> p.z();
-  s.triangles.resize(nf);
-  for (auto& t : s.triangles) {
-    int k = 0;
-    in >> k >> t[0] >> t[1] >> t[2];
-    if (k != 3) throw dthex::InputError(path + ": only triangles are supported");
-  }
-  if (!in) throw dthex::InputError(path + ": truncated");
-  return s;
-}
+dthex::TriSurface read_off(const std::string& path) { return dthex::read_surface(path); }
 
 //! CPU seconds of this process and its waited-for children (TetGen runs in a child):
 //! on a shared machine these are steadier than wall time.
