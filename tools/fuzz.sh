@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets (clang, ASan + UBSan) in build-fuzz/ and runs each for a
-# bounded time on a scratch copy of its seed corpus. Usage: tools/fuzz.sh [seconds per
+# Builds the libFuzzer targets (clang, ASan + UBSan) in build-check/ (shared with
+# tools/sanitize.sh: one instrumented build serves both) and runs each for a bounded
+# time on a scratch copy of its seed corpus. Usage: tools/fuzz.sh [seconds per
 # target] [target...]. Exits non-zero if a target finds a crash, leak, timeout or OOM;
-# the input is kept in build-fuzz/findings/<target>/ (add it to tests/fuzz/regressions/
+# the input is kept in build-check/findings/<target>/ (add it to tests/fuzz/regressions/
 # after the fix).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -13,14 +14,13 @@ targets=("$@")
 jobs=$(nproc 2>/dev/null || echo 2)
 root=$PWD
 
-CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDTHEX_FUZZ=ON \
-  -DDTHEX_BUILD_TESTS=OFF >/dev/null
-cmake --build build-fuzz -j"$jobs" --target "${targets[@]}" >/dev/null
+CC=clang CXX=clang++ cmake -S . -B build-check -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDTHEX_FUZZ=ON >/dev/null
+cmake --build build-check -j"$jobs" --target "${targets[@]}" >/dev/null
 
 failed=0
 for target in "${targets[@]}"; do
-  work=build-fuzz/run/$target
-  findings=build-fuzz/findings/$target
+  work=build-check/run/$target
+  findings=build-check/findings/$target
   rm -rf "$work"
   mkdir -p "$work/corpus" "$findings"
   cp tests/fuzz/corpus/"$target"/* "$work/corpus/"
@@ -30,7 +30,7 @@ for target in "${targets[@]}"; do
   per_input=10
   [ "$target" = fuzz_pipeline ] && per_input=60
   set +e
-  (cd "$work" && ASAN_OPTIONS=detect_leaks=1 "$root/build-fuzz/tests/fuzz/$target" -max_total_time="$seconds" \
+  (cd "$work" && ASAN_OPTIONS=detect_leaks=1 "$root/build-check/tests/fuzz/$target" -max_total_time="$seconds" \
      -timeout="$per_input" -rss_limit_mb=2048 -max_len=4096 -print_final_stats=1 \
      -artifact_prefix="$root/$findings/" corpus >log.txt 2>&1)
   status=$?
