@@ -41,6 +41,20 @@ TEST(FailurePaths, OutputIsADirectoryIsRefusedUpFront) {
   fs::remove_all(dir);
 }
 
+TEST(FailurePaths, CoarseSurfaceOverTheInputIsRefused) {
+  const fs::path dir = fresh_dir("fp_overwrite");
+  const fs::path input = write_cube(dir);
+  const std::string before = read_bytes(input);
+  const CommandRun r = run_om_dthex(input.string() + " -q -o " + (dir / "o.vtu").string() + " --coarse-surface " +
+                                        (dir / "." / "cube.off").string(),
+                                    dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("is the input file"), std::string::npos) << r.err;
+  EXPECT_EQ(read_bytes(input), before);
+  EXPECT_EQ(entries_in(dir), 1u);
+  fs::remove_all(dir);
+}
+
 TEST(FailurePaths, ReportInMissingFolderWritesNoMesh) {
   const fs::path dir = fresh_dir("fp_missing");
   const fs::path input = write_cube(dir);

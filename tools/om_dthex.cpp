@@ -62,6 +62,9 @@ void validate(CommandLine& cl) {
       throw dthex::InputError("--coarse-surface '" + cl.coarse_surface + "': unsupported extension '" + ext +
                               "' (use .off, .obj, .stl or .ply)");
     check_writable("--coarse-surface", cl.coarse_surface);
+    std::error_code ec;
+    if (fs::equivalent(cl.input, cl.coarse_surface, ec))
+      throw dthex::InputError("--coarse-surface '" + cl.coarse_surface + "' is the input file; it would be overwritten");
   }
 }
 
