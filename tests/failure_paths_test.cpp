@@ -4,6 +4,8 @@
 // a time limit. Each must give a clear message, a non-zero exit and leave no partial,
 // stale or temporary file.
 #include "core/atomic_file.h"
+#include "core/read_surface.h"
+#include "core/tetrahedralize.h"
 #include "hostile_test_util.h"
 
 #include <gtest/gtest.h>
@@ -12,6 +14,7 @@
 #include <csignal>
 #include <spawn.h>
 #include <thread>
+#include <sys/prctl.h>
 
 using namespace dthex_test;
 
@@ -201,6 +204,53 @@ TEST(FailurePaths, TetgenTimeLimitIsExit3WithAMessage) {
   EXPECT_NE(r.err.find("femur_proximal_ct.off"), std::string::npos) << r.err;
   EXPECT_EQ(entries_in(dir), 0u);
   fs::remove_all(dir);
+}
+
+//! The first child of pid (from /proc/<pid>/task/<pid>/children), or 0.
+pid_t first_child(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/task/" + std::to_string(pid) + "/children");
+  pid_t child = 0;
+  in >> child;
+  return child;
+}
+
+//! True while pid exists and is not a zombie.
+bool running(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+  std::string text;
+  if (!std::getline(in, text)) return false;
+  const size_t paren = text.rfind(')');
+  return paren != std::string::npos && paren + 2 < text.size() && text[paren + 2] != 'Z';
+}
+
+TEST(FailurePaths, TetgenChildDiesWithItsParent) {
+  // TetGen runs in a forked child; if om_dthex is killed (SIGKILL: no handler runs), the
+  // child must not keep meshing for minutes: it has PR_SET_PDEATHSIG.
+  if (!fs::exists("/proc/self/task/" + std::to_string(::getpid()) + "/children"))
+    GTEST_SKIP() << "no /proc/<pid>/task/<pid>/children on this kernel";
+  const dthex::TriSurface femur = dthex::read_surface(mesh("femur_proximal_ct.off"));  // TetGen takes > 10 s
+  std::fflush(nullptr);
+  const pid_t parent = ::fork();
+  if (parent == 0) {
+    dthex::tetrahedralize(femur, {"pq1.2Y", 600});
+    ::_exit(0);
+  }
+  pid_t tetgen = 0;
+  for (int i = 0; i < 200 && !tetgen; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    tetgen = first_child(parent);
+  }
+  ASSERT_NE(tetgen, 0) << "TetGen's process did not start";
+  ASSERT_TRUE(running(tetgen));
+  ::kill(parent, SIGKILL);
+  ::waitpid(parent, nullptr, 0);
+  bool gone = false;
+  for (int i = 0; i < 200 && !gone; ++i) {
+    gone = !running(tetgen);
+    if (!gone) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  if (!gone) ::kill(tetgen, SIGKILL);
+  EXPECT_TRUE(gone) << "TetGen's process outlived its killed parent";
 }
 
 }  // namespace
