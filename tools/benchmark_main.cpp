@@ -145,7 +145,9 @@ Row run_one(const std::string& path, const std::string& mesh, const std::string&
   row.peak_mb = double(usage.ru_maxrss) / 1024.0;  // Linux reports kilobytes
   if (timed_out) {
     row.status = "timeout";
-    row.message = "no result within " + std::to_string(int(timeout_seconds)) + " s";
+    char text_limit[64];
+    std::snprintf(text_limit, sizeof text_limit, "no result within %g s (killed)", timeout_seconds);
+    row.message = text_limit;
     return row;
   }
   if (WIFSIGNALED(status)) {
