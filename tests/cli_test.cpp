@@ -217,3 +217,21 @@ TEST(Cli, HtmlReportWithTheThexBaseline) {
   EXPECT_NE(bad.err.find("--report"), std::string::npos) << bad.err;
   EXPECT_FALSE(fs::exists(dir / "b.vtu"));
 }
+
+TEST(Cli, UnwritableOutputFolderIsExit2NamingTheOption) {
+  // /proc/1 exists and is not writable even for root (the tests may run as root, where
+  // permission bits do not stop writes).
+  const fs::path dir = scratch("unwritable");
+  const std::string in = mesh("icosahedron.off"), out = " -o " + (dir / "o.vtu").string();
+  struct Case {
+    std::string args, option;
+  };
+  for (const Case& c : {Case{"-o /proc/1/o.vtu", "--output"}, Case{out + " --report /proc/1/r.html", "--report"},
+                        Case{out + " --coarse-surface /proc/1/c.off", "--coarse-surface"}}) {
+    const CommandResult r = om_dthex(in + " " + c.args, dir);
+    EXPECT_EQ(r.exit_code, 2) << c.args;
+    EXPECT_NE(r.err.find(c.option), std::string::npos) << c.args << ": " << r.err;
+    EXPECT_NE(r.err.find("not writable"), std::string::npos) << c.args << ": " << r.err;
+  }
+  EXPECT_EQ(files_in(dir), 0u);
+}
