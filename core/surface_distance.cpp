@@ -8,28 +8,45 @@ namespace dthex {
 namespace {
 
 // Max and sum of distances from the sample points of `from` to the surface behind `to`.
+// Samples are the vertices the triangles use (a hex mesh's node array also holds interior
+// nodes), the centroids and the edge midpoints, listed triangle by triangle so that
+// consecutive samples are close: each query starts from the previous answer's triangle,
+// which prunes most of the tree. The samples are split over the cores.
 void one_sided(const TriSurface& from, const TriangleBvh& to, double& max_distance, double& sum, size_t& count) {
-  auto probe = [&](const Vec3& q) {
-    const double d = std::sqrt(to.closest_point(q).distance_sq);
-    max_distance = std::max(max_distance, d);
-    sum += d;
-    ++count;
-  };
-  // Only the points the triangles use: a hex mesh's node array also holds interior nodes.
-  std::vector<char> used(from.points.size(), 0);
-  for (const auto& t : from.triangles)
-    for (int v : t) used[size_t(v)] = 1;
-  for (size_t i = 0; i < from.points.size(); ++i)
-    if (used[i]) probe(from.points[i]);
+  std::vector<Vec3> samples;
+  samples.reserve(5 * from.triangles.size());
+  std::vector<char> sampled(from.points.size(), 0);
   for (const auto& t : from.triangles) {
     const Vec3& a = from.points[size_t(t[0])];
     const Vec3& b = from.points[size_t(t[1])];
     const Vec3& c = from.points[size_t(t[2])];
-    probe((a + b + c) / 3.0);
-    probe(0.5 * (a + b));
-    probe(0.5 * (b + c));
-    probe(0.5 * (c + a));
+    for (int v : t)
+      if (!sampled[size_t(v)]) {
+        sampled[size_t(v)] = 1;
+        samples.push_back(from.points[size_t(v)]);
+      }
+    samples.push_back((a + b + c) / 3.0);
+    samples.push_back(0.5 * (a + b));
+    samples.push_back(0.5 * (b + c));
+    samples.push_back(0.5 * (c + a));
   }
+  const long n = long(samples.size());
+  double local_max = 0, local_sum = 0;
+#pragma omp parallel reduction(max : local_max) reduction(+ : local_sum)
+  {
+    int hint = -1;
+#pragma omp for schedule(static)
+    for (long i = 0; i < n; ++i) {
+      const TriangleBvh::ClosestPoint cp = to.closest_point_near(samples[size_t(i)], hint);
+      hint = cp.triangle;
+      const double d = std::sqrt(cp.distance_sq);
+      local_max = std::max(local_max, d);
+      local_sum += d;
+    }
+  }
+  max_distance = std::max(max_distance, local_max);
+  sum += local_sum;
+  count += samples.size();
 }
 
 }  // namespace

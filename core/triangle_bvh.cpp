@@ -191,21 +191,41 @@ const Eigen::AlignedBox3d& TriangleBvh::bounds() const {
   return nodes_.empty() ? empty : nodes_[0].box;
 }
 
-TriangleBvh::ClosestPoint TriangleBvh::closest_point(const Vec3& q) const {
-  return closest_point(q, nullptr);
-}
+TriangleBvh::ClosestPoint TriangleBvh::closest_point(const Vec3& q) const { return search(q, nullptr, -1); }
 
 TriangleBvh::ClosestPoint TriangleBvh::closest_point(const Vec3& q,
                                                      const std::function<bool(int)>& accept) const {
+  return search(q, accept ? &accept : nullptr, -1);
+}
+
+TriangleBvh::ClosestPoint TriangleBvh::closest_point_near(const Vec3& q, int hint) const {
+  return search(q, nullptr, hint);
+}
+
+TriangleBvh::ClosestPoint TriangleBvh::search(const Vec3& q, const std::function<bool(int)>* accept,
+                                              int hint) const {
   ClosestPoint best;
   best.distance_sq = std::numeric_limits<double>::infinity();
   if (nodes_.empty()) {
     best.distance_sq = 0;
     return best;
   }
-  // Stack of (node, squared box distance); the nearer child is pushed last so it is visited first.
-  std::vector<std::pair<int, double>> stack;
-  stack.reserve(64);
+  auto try_triangle = [&](int t) {
+    const auto& tri = triangles_[size_t(t)];
+    const Vec3 p = closest_point_on_triangle(q, points_[size_t(tri[0])], points_[size_t(tri[1])],
+                                             points_[size_t(tri[2])]);
+    const double d = (p - q).squaredNorm();
+    if (d < best.distance_sq) {
+      best.distance_sq = d;
+      best.point = p;
+      best.triangle = t;
+    }
+  };
+  if (hint >= 0 && size_t(hint) < triangles_.size()) try_triangle(hint);
+  // Stack of (node, squared box distance); the nearer child is pushed last so it is visited
+  // first. Reused per thread: a heap allocation per query cost more than the search.
+  thread_local std::vector<std::pair<int, double>> stack;
+  stack.clear();
   stack.emplace_back(0, nodes_[0].box.squaredExteriorDistance(q));
   while (!stack.empty()) {
     const auto [index, box_distance_sq] = stack.back();
@@ -215,16 +235,8 @@ TriangleBvh::ClosestPoint TriangleBvh::closest_point(const Vec3& q,
     if (node.left < 0) {
       for (int k = node.first; k < node.first + node.count; ++k) {
         const int t = order_[size_t(k)];
-        if (accept && !accept(t)) continue;
-        const auto& tri = triangles_[size_t(t)];
-        const Vec3 p = closest_point_on_triangle(q, points_[size_t(tri[0])], points_[size_t(tri[1])],
-                                                 points_[size_t(tri[2])]);
-        const double d = (p - q).squaredNorm();
-        if (d < best.distance_sq) {
-          best.distance_sq = d;
-          best.point = p;
-          best.triangle = t;
-        }
+        if (accept && !(*accept)(t)) continue;
+        try_triangle(t);
       }
       continue;
     }
