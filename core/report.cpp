@@ -83,7 +83,7 @@ std::string summary_table(const PipelineResult& r, const PipelineOptions& o) {
   return out.str();
 }
 
-std::string report_json(const PipelineResult& r, const PipelineOptions& o) {
+std::string report_json(const PipelineResult& r, const PipelineOptions& o, const PipelineResult* thex_baseline) {
   nlohmann::json j;
   j["tool"] = "om_dthex";
   j["version"] = DTHEX_VERSION;
@@ -119,6 +119,11 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o) {
   for (const auto& s : r.stages) stages.push_back({{"name", s.name}, {"seconds", s.seconds}, {"result", s.detail}});
   j["stages"] = stages;
   j["total_seconds"] = r.total_seconds;
+  if (thex_baseline) {
+    PipelineOptions thex_options = o;
+    thex_options.thex_only = true;
+    j["thex_baseline"] = nlohmann::json::parse(report_json(*thex_baseline, thex_options));
+  }
   return j.dump(2) + "\n";
 }
 

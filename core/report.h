@@ -14,6 +14,8 @@ namespace dthex {
 std::string summary_table(const PipelineResult& result, const PipelineOptions& options);
 
 //! The JSON report: input, coarse, tet and hex statistics, histograms, timings, options, version.
-std::string report_json(const PipelineResult& result, const PipelineOptions& options);
+//! With thex_baseline (--compare-thex), that run's report is nested under "thex_baseline".
+std::string report_json(const PipelineResult& result, const PipelineOptions& options,
+                        const PipelineResult* thex_baseline = nullptr);
 
 }  // namespace dthex

@@ -187,3 +187,51 @@ TEST(Cli, TargetNodesLandWithinTenPercent) {
   EXPECT_NE(low.err.find("at least"), std::string::npos) << low.err;
   EXPECT_FALSE(fs::exists(dir / "low.vtu"));
 }
+
+TEST(Cli, HtmlReportWithTheThexBaseline) {
+  // --report picks the format by extension; --compare-thex adds the THex run to both.
+  const fs::path dir = scratch("html");
+  const fs::path html = dir / "r.html", json = dir / "r.json";
+  const std::string in = mesh("sphere728.off");
+  const CommandResult r = om_dthex(in + " -q --compare-thex -o " + (dir / "o.vtu").string() + " --report " + html.string(), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string page = slurp(html);
+  EXPECT_EQ(page.rfind("<!DOCTYPE html>", 0), 0u);
+  EXPECT_NE(page.find("data-series=\"thex\""), std::string::npos);
+  EXPECT_NE(page.find("<canvas id=\"view\""), std::string::npos);
+  const CommandResult j = om_dthex(in + " -q --compare-thex -o " + (dir / "o.vtu").string() + " --report " + json.string(), dir);
+  ASSERT_EQ(j.exit_code, 0) << j.err;
+  const nlohmann::json report = nlohmann::json::parse(slurp(json));
+  ASSERT_TRUE(report.contains("thex_baseline"));
+  const nlohmann::json& thex = report["thex_baseline"];
+  EXPECT_TRUE(thex["options"]["thex_only"].get<bool>());
+  EXPECT_EQ(thex["hex"]["hexes"].get<size_t>(), 4 * thex["tets"]["count"].get<size_t>());
+  EXPECT_EQ(thex["input"]["surface"]["triangles"], report["input"]["surface"]["triangles"]);
+  EXPECT_GT(thex["hex"]["hexes"].get<size_t>(), report["hex"]["hexes"].get<size_t>());  // THex meshes the fine input
+  // The HTML page shows the same counts as the JSON report.
+  EXPECT_NE(page.find("data-key=\"thex.hexes\">" + std::to_string(thex["hex"]["hexes"].get<size_t>()) + "<"),
+            std::string::npos);
+  // An unknown report format is refused before any meshing.
+  const CommandResult bad = om_dthex(in + " -q -o " + (dir / "b.vtu").string() + " --report " + (dir / "r.txt").string(), dir);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--report"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir / "b.vtu"));
+}
+
+TEST(Cli, UnwritableOutputFolderIsExit2NamingTheOption) {
+  // /proc/1 exists and is not writable even for root (the tests may run as root, where
+  // permission bits do not stop writes).
+  const fs::path dir = scratch("unwritable");
+  const std::string in = mesh("icosahedron.off"), out = " -o " + (dir / "o.vtu").string();
+  struct Case {
+    std::string args, option;
+  };
+  for (const Case& c : {Case{"-o /proc/1/o.vtu", "--output"}, Case{out + " --report /proc/1/r.html", "--report"},
+                        Case{out + " --coarse-surface /proc/1/c.off", "--coarse-surface"}}) {
+    const CommandResult r = om_dthex(in + " " + c.args, dir);
+    EXPECT_EQ(r.exit_code, 2) << c.args;
+    EXPECT_NE(r.err.find(c.option), std::string::npos) << c.args << ": " << r.err;
+    EXPECT_NE(r.err.find("not writable"), std::string::npos) << c.args << ": " << r.err;
+  }
+  EXPECT_EQ(files_in(dir), 0u);
+}

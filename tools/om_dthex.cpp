@@ -6,6 +6,7 @@
 #include "core/atomic_file.h"
 #include "core/pipeline.h"
 #include "core/report.h"
+#include "core/report_html.h"
 #include "core/write_hex_mesh.h"
 #include "core/write_surface.h"
 
@@ -16,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -27,7 +29,7 @@ constexpr int kExitOk = 0, kExitInternal = 1, kExitInput = 2, kExitMeshing = 3;
 struct CommandLine {
   std::string input, output, report, coarse_surface;
   dthex::PipelineOptions pipeline;
-  bool quiet = false, verbose = false, verify_only = false;
+  bool quiet = false, verbose = false, verify_only = false, compare_thex = false;
 };
 
 std::string lower_extension(const std::string& path) {
@@ -52,8 +54,8 @@ void validate(CommandLine& cl) {
   check_writable("-o/--output", cl.output);
   if (!cl.report.empty()) {
     const std::string ext = lower_extension(cl.report);
-    if (ext != ".json")
-      throw dthex::InputError("--report '" + cl.report + "': unsupported extension '" + ext + "' (use .json)");
+    if (ext != ".json" && ext != ".html")
+      throw dthex::InputError("--report '" + cl.report + "': unsupported extension '" + ext + "' (use .json or .html)");
     check_writable("--report", cl.report);
   }
   if (!cl.coarse_surface.empty()) {
@@ -98,18 +100,39 @@ int run(CommandLine& cl) {
   }
 
   dthex::PipelineResult result = dthex::run_pipeline(cl.input, cl.pipeline, progress);
+  // --compare-thex: the classic THex of the same input, for the report's side-by-side view.
+  std::unique_ptr<dthex::PipelineResult> baseline;
+  dthex::PipelineOptions baseline_options = cl.pipeline;
+  baseline_options.thex_only = true;
+  baseline_options.target_nodes = 0;
+  baseline_options.strict = false;
+  if (cl.compare_thex && !cl.pipeline.thex_only) {
+    progress.message("THex baseline (--compare-thex)");
+    try {
+      baseline = std::make_unique<dthex::PipelineResult>(dthex::run_pipeline(cl.input, baseline_options, progress));
+    } catch (const dthex::MeshingError& e) {
+      // The DTHex result stands on its own: a baseline that fails (TetGen's time limit on a
+      // large input) leaves it out of the report rather than failing the run.
+      std::fprintf(stderr, "om_dthex: warning: THex baseline failed, left out of the report: %s\n", e.what());
+    }
+  }
 
   progress.begin("write");
   dthex::HexFields fields{result.quality.shape, result.quality.scaled_jacobian};
   dthex::AtomicWriteGroup outputs;  // all outputs appear together, or none does
   dthex::write_hex_mesh(result.hexes, cl.output, fields);
   if (!cl.coarse_surface.empty()) dthex::write_surface(result.coarse, cl.coarse_surface);
-  if (!cl.report.empty()) write_text(cl.report, dthex::report_json(result, cl.pipeline));
+  if (!cl.report.empty()) {
+    const bool html = lower_extension(cl.report) == ".html";
+    write_text(cl.report, html ? dthex::report_html(result, cl.pipeline, baseline.get())
+                               : dthex::report_json(result, cl.pipeline, baseline.get()));
+  }
   outputs.commit();
   progress.end(cl.output);
 
   if (!cl.quiet) {
     std::fputs(dthex::summary_table(result, cl.pipeline).c_str(), stdout);
+    if (baseline) std::fputs(("\n" + dthex::summary_table(*baseline, baseline_options)).c_str(), stdout);
     std::printf("  wrote %s\n", cl.output.c_str());
   }
   return kExitOk;
@@ -167,7 +190,12 @@ int main(int argc, char** argv) {
                  "seconds allowed for TetGen (exceeded: exit 3) and for the untangling optimizer (it stops there and\nreports what it reached; with --strict a remaining inverted hex is exit 3)")
       ->default_val(600.0)
       ->check(CLI::PositiveNumber);
-  app.add_option("--report", cl.report, "write a JSON report (statistics, histograms, timings, options)");
+  app.add_option("--report", cl.report,
+                 "write a report; the extension picks it: .json (statistics, histograms, timings, options) or .html\n"
+                 "(one self-contained page: stage table, quality histograms, 3D view coloured by quality)");
+  app.add_flag("--compare-thex", cl.compare_thex,
+               "also run the classic THex of the input (as --thex-only) and put it beside the result in the\n"
+               "summary and the report");
   app.add_option("--coarse-surface", cl.coarse_surface, "also write the coarse surface (.off .obj .stl .ply)");
   app.add_flag("--verify-only", cl.verify_only, "only read and verify the input, print its statistics");
   app.add_flag("-q,--quiet", cl.quiet, "no progress and no summary; errors still go to stderr");

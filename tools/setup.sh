@@ -10,6 +10,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libexodusii-dev
   python3 python3-vtk9 python3-numpy python3-scipy python3-meshio python3-netcdf4
   clang libclang-rt-14-dev
+  chromium
 )
 missing=()
 for p in "${packages[@]}"; do

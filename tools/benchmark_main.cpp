@@ -1,0 +1,461 @@
+// SPDX-License-Identifier: MIT
+// benchmark: THex and DTHex side by side over a set of surfaces, the paper-style table
+// (nodes, hexes, shape avg/std/min/max, min scaled Jacobian, inverted, Hausdorff, volume
+// error, seconds per stage, peak memory), printed, as CSV (--csv) and as Markdown
+// (--markdown) for the README. Every run is a forked child with a timeout, so one mesh
+// that hangs or crashes costs its row only, and its peak memory is its own (wait4).
+//
+//   build/benchmark                      every surface in meshes/
+//   build/benchmark --only femur --csv femur.csv
+//   build/benchmark --subdivide 2 meshes/femur_proximal_ct.off   (Loop-subdivided twice: 16x triangles)
+#include "core/pipeline.h"
+#include "core/read_surface.h"
+#include "core/report.h"
+#include "core/surface_mesh.h"
+#include "core/write_surface.h"
+
+#include <CLI/CLI.hpp>
+#include <OpenMesh/Tools/Subdivider/Uniform/LoopT.hh>
+#include <nlohmann/json.hpp>
+
+#include <poll.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The pipeline's stage names, in order; a stage not listed (a future one) lands in "other".
+const std::vector<std::string> kStages = {"read",  "verify", "choose eps", "coarsen", "verify coarse", "tetrahedralize",
+                                          "thex",  "dice",   "project",    "untangle", "measure"};
+
+struct Row {
+  std::string mesh, method, status = "ok", message;
+  size_t input_triangles = 0, coarse_triangles = 0, tets = 0, nodes = 0, hexes = 0, inverted = 0;
+  double shape_avg = 0, shape_std = 0, shape_min = 0, shape_max = 0, sj_min = 0;
+  double hausdorff_percent = 0, volume_error_percent = 0;
+  std::map<std::string, double> stage_seconds;
+  double total_seconds = 0, peak_mb = 0, wall_seconds = 0;
+};
+
+std::string column_name(const std::string& stage) {
+  std::string name = "t_" + stage;
+  std::replace(name.begin(), name.end(), ' ', '_');
+  return name;
+}
+
+// Fills a row from the JSON report the child wrote (the same one --report writes).
+void read_report(const nlohmann::json& j, Row& row) {
+  row.input_triangles = j["input"]["surface"]["triangles"];
+  row.coarse_triangles = j.contains("coarse") ? j["coarse"]["triangles"].get<size_t>() : row.input_triangles;
+  row.tets = j["tets"]["count"];
+  const auto& hex = j["hex"];
+  row.nodes = hex["nodes"];
+  row.hexes = hex["hexes"];
+  row.inverted = hex["inverted"];
+  row.shape_avg = hex["shape"]["avg"];
+  row.shape_std = hex["shape"]["std"];
+  row.shape_min = hex["shape"]["min"];
+  row.shape_max = hex["shape"]["max"];
+  row.sj_min = hex["scaled_jacobian"]["min"];
+  row.hausdorff_percent = 100.0 * j["distance"]["hausdorff_relative"].get<double>();
+  const double input_volume = j["input"]["surface"]["volume"];
+  row.volume_error_percent =
+      input_volume != 0 ? 100.0 * (hex["volume"].get<double>() - input_volume) / input_volume : 0.0;
+  for (const auto& s : j["stages"]) {
+    const std::string name = s["name"];
+    const bool known = std::find(kStages.begin(), kStages.end(), name) != kStages.end();
+    row.stage_seconds[known ? name : "other"] += s["seconds"].get<double>();
+  }
+  row.total_seconds = j["total_seconds"];
+}
+
+// Runs the pipeline in a child; the child sends its JSON report through a pipe.
+Row run_one(const std::string& path, const std::string& mesh, const std::string& method,
+            const dthex::PipelineOptions& options, double timeout_seconds) {
+  Row row;
+  row.mesh = mesh;
+  row.method = method;
+  int fds[2];
+  if (::pipe(fds) != 0) throw std::runtime_error("pipe failed");
+  std::fflush(nullptr);
+  const auto start = std::chrono::steady_clock::now();
+  const pid_t pid = ::fork();
+  if (pid < 0) throw std::runtime_error("fork failed");
+  if (pid == 0) {
+    ::close(fds[0]);
+    std::string text;
+    int code = 0;
+    try {
+      dthex::Progress quiet;
+      const dthex::PipelineResult result = dthex::run_pipeline(path, options, quiet);
+      text = dthex::report_json(result, options);
+    } catch (const std::exception& e) {
+      text = nlohmann::json{{"error", e.what()}}.dump();
+      code = 3;
+    }
+    for (size_t done = 0; done < text.size();) {
+      const ssize_t n = ::write(fds[1], text.data() + done, text.size() - done);
+      if (n <= 0) break;
+      done += size_t(n);
+    }
+    ::close(fds[1]);
+    ::_exit(code);
+  }
+  ::close(fds[1]);
+  std::string text;
+  bool timed_out = false;
+  char buffer[65536];
+  for (;;) {
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const int wait_ms = int(std::max(0.0, timeout_seconds - elapsed) * 1000);
+    pollfd p{fds[0], POLLIN, 0};
+    const int ready = ::poll(&p, 1, wait_ms);
+    if (ready == 0) {
+      timed_out = true;
+      ::kill(pid, SIGKILL);
+      break;
+    }
+    if (ready < 0) {
+      if (errno == EINTR) continue;
+      break;
+    }
+    const ssize_t n = ::read(fds[0], buffer, sizeof buffer);
+    if (n <= 0) break;  // EOF: the child is done
+    text.append(buffer, size_t(n));
+  }
+  ::close(fds[0]);
+  int status = 0;
+  rusage usage{};
+  ::wait4(pid, &status, 0, &usage);
+  row.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  row.peak_mb = double(usage.ru_maxrss) / 1024.0;  // Linux reports kilobytes
+  if (timed_out) {
+    row.status = "timeout";
+    char text_limit[64];
+    std::snprintf(text_limit, sizeof text_limit, "no result within %g s (killed)", timeout_seconds);
+    row.message = text_limit;
+    return row;
+  }
+  if (WIFSIGNALED(status)) {
+    row.status = "crashed";
+    row.message = std::string("signal ") + strsignal(WTERMSIG(status));
+    return row;
+  }
+  try {
+    const nlohmann::json j = nlohmann::json::parse(text);
+    if (j.contains("error")) {
+      row.status = "failed";
+      row.message = j["error"];
+    } else {
+      read_report(j, row);
+    }
+  } catch (const std::exception& e) {
+    row.status = "failed";
+    row.message = std::string("unreadable result: ") + e.what();
+  }
+  return row;
+}
+
+// Loop subdivision (smooth, 4x triangles per level): large inputs of a real shape, made
+// here so no big mesh is committed.
+std::string subdivided_copy(const std::string& path, int levels, const fs::path& folder, std::string& name) {
+  name = fs::path(path).stem().string() + "_loop" + std::to_string(levels);
+  const fs::path out = folder / (name + ".off");
+  if (fs::exists(out)) return out.string();
+  dthex::SurfaceMesh mesh = dthex::to_openmesh(dthex::read_surface(path));
+  OpenMesh::Subdivider::Uniform::LoopT<dthex::SurfaceMesh> loop;
+  loop.attach(mesh);
+  loop(mesh, size_t(levels));
+  loop.detach();
+  mesh.garbage_collection();
+  fs::create_directories(folder);
+  dthex::write_surface(dthex::from_openmesh(mesh), out.string());
+  return out.string();
+}
+
+std::string fixed(double v, int precision) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", precision, v);
+  return buffer;
+}
+
+std::vector<std::string> csv_header() {
+  std::vector<std::string> h = {"mesh",      "method",    "status",   "input_triangles", "coarse_triangles",
+                                "tets",      "nodes",     "hexes",    "shape_avg",       "shape_std",
+                                "shape_min", "shape_max", "sj_min",   "inverted",        "hausdorff_pct",
+                                "volume_error_pct"};
+  for (const auto& s : kStages) h.push_back(column_name(s));
+  h.insert(h.end(), {"t_other", "total_seconds", "peak_mb", "message"});
+  return h;
+}
+
+std::string csv_quote(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string q = "\"";
+  for (char c : text) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+std::vector<std::string> csv_fields(const Row& r) {
+  auto num = [](double v) {
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, "%.10g", v);
+    return std::string(buffer);
+  };
+  std::vector<std::string> f = {r.mesh,
+                                r.method,
+                                r.status,
+                                std::to_string(r.input_triangles),
+                                std::to_string(r.coarse_triangles),
+                                std::to_string(r.tets),
+                                std::to_string(r.nodes),
+                                std::to_string(r.hexes),
+                                num(r.shape_avg),
+                                num(r.shape_std),
+                                num(r.shape_min),
+                                num(r.shape_max),
+                                num(r.sj_min),
+                                std::to_string(r.inverted),
+                                num(r.hausdorff_percent),
+                                num(r.volume_error_percent)};
+  for (const auto& s : kStages) {
+    const auto it = r.stage_seconds.find(s);
+    f.push_back(it == r.stage_seconds.end() ? "" : num(it->second));
+  }
+  const auto other = r.stage_seconds.find("other");
+  f.push_back(other == r.stage_seconds.end() ? "" : num(other->second));
+  f.push_back(num(r.total_seconds));
+  f.push_back(num(r.peak_mb));
+  f.push_back(r.message);
+  return f;
+}
+
+void write_csv(const std::vector<Row>& rows, const std::string& path) {
+  std::ostringstream out;
+  const auto header = csv_header();
+  for (size_t i = 0; i < header.size(); ++i) out << (i ? "," : "") << header[i];
+  out << "\n";
+  for (const Row& r : rows) {
+    const auto fields = csv_fields(r);
+    for (size_t i = 0; i < fields.size(); ++i) out << (i ? "," : "") << csv_quote(fields[i]);
+    out << "\n";
+  }
+  std::ofstream file(path, std::ios::binary);
+  file << out.str();
+  if (!file) throw std::runtime_error("cannot write " + path);
+}
+
+// One table of the headline columns and one of the seconds per stage, as aligned text or Markdown.
+std::string tables(const std::vector<Row>& rows, bool markdown) {
+  std::vector<std::vector<std::string>> quality = {{"mesh", "method", "triangles", "nodes", "hexes", "shape avg",
+                                                    "shape std", "shape min", "shape max", "min SJ", "inverted",
+                                                    "Hausdorff %", "volume err %", "seconds", "peak MB"}};
+  std::vector<std::vector<std::string>> timing = {{"mesh", "method"}};
+  std::vector<std::string> stages_seen;
+  for (const auto& s : kStages)
+    for (const Row& r : rows)
+      if (r.stage_seconds.count(s)) {
+        stages_seen.push_back(s);
+        break;
+      }
+  for (const Row& r : rows)
+    if (r.stage_seconds.count("other")) {
+      stages_seen.push_back("other");
+      break;
+    }
+  for (const auto& s : stages_seen) timing[0].push_back(s);
+  timing[0].push_back("total");
+  for (const Row& r : rows) {
+    if (r.status != "ok") {
+      std::vector<std::string> line = {r.mesh, r.method, r.status + ": " + r.message};
+      line.resize(quality[0].size() - 1);
+      line.push_back(fixed(r.peak_mb, 0));
+      quality.push_back(line);
+      continue;
+    }
+    quality.push_back({r.mesh, r.method, std::to_string(r.input_triangles), std::to_string(r.nodes),
+                       std::to_string(r.hexes), fixed(r.shape_avg, 3), fixed(r.shape_std, 3), fixed(r.shape_min, 3),
+                       fixed(r.shape_max, 3), fixed(r.sj_min, 3), std::to_string(r.inverted),
+                       fixed(r.hausdorff_percent, 3), fixed(r.volume_error_percent, 2), fixed(r.total_seconds, 2),
+                       fixed(r.peak_mb, 0)});
+    std::vector<std::string> line = {r.mesh, r.method};
+    for (const auto& s : stages_seen) {
+      const auto it = r.stage_seconds.find(s);
+      line.push_back(it == r.stage_seconds.end() ? "-" : fixed(it->second, 2));
+    }
+    line.push_back(fixed(r.total_seconds, 2));
+    timing.push_back(line);
+  }
+  auto render = [&](const std::vector<std::vector<std::string>>& table) {
+    std::vector<size_t> width(table[0].size(), 0);
+    for (const auto& line : table)
+      for (size_t c = 0; c < line.size() && c < width.size(); ++c)
+        width[c] = std::max(width[c], line[c].size());
+    std::ostringstream out;
+    for (size_t l = 0; l < table.size(); ++l) {
+      const auto& line = table[l];
+      if (markdown) {
+        out << "|";
+        for (const auto& cell : line) out << " " << cell << " |";
+        out << "\n";
+        if (l == 0) {
+          out << "|";
+          for (size_t c = 0; c < line.size(); ++c) out << (c < 2 ? "---|" : "---:|");
+          out << "\n";
+        }
+      } else {
+        for (size_t c = 0; c < line.size(); ++c) {
+          const bool left = c < 2;
+          char cell[512];
+          std::snprintf(cell, sizeof cell, left ? "%-*s  " : "%*s  ", int(width[c]), line[c].c_str());
+          out << cell;
+        }
+        out << "\n";
+      }
+    }
+    return out.str();
+  };
+  std::ostringstream out;
+  out << render(quality) << "\n" << (markdown ? "Seconds per stage:\n\n" : "seconds per stage\n") << render(timing);
+  // THex time / DTHex time per mesh: the speed-up the method is about.
+  std::ostringstream ratios;
+  for (const Row& d : rows) {
+    if (d.method != "dthex" || d.status != "ok") continue;
+    for (const Row& t : rows)
+      if (t.mesh == d.mesh && t.method == "thex" && t.status == "ok" && d.total_seconds > 0)
+        ratios << (markdown ? "- " : "  ") << d.mesh << ": DTHex " << fixed(t.total_seconds / d.total_seconds, 1)
+               << "x faster than THex, " << fixed(double(t.hexes) / std::max<size_t>(d.hexes, 1), 1)
+               << "x fewer hexes\n";
+  }
+  if (!ratios.str().empty()) out << "\n" << ratios.str();
+  return out.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> files;
+  std::string meshes_folder = "meshes", only, csv, methods_text = "thex,dthex", work_dir;
+  double timeout_seconds = 300;
+  bool markdown = false, quiet = false;
+  int subdivide = 0;
+  dthex::PipelineOptions dthex_options;
+  CLI::App app{"benchmark: THex and DTHex side by side, every run in a child process with a timeout", "benchmark"};
+  app.add_option("FILES", files, "surfaces to run (default: every .off .obj .stl .ply in --meshes)");
+  app.add_option("--meshes", meshes_folder, "folder of surfaces when no FILES are given")->default_val("meshes");
+  app.add_option("--only", only, "only surfaces whose file name contains this");
+  app.add_option("--methods", methods_text, "comma-separated: thex, dthex")->default_val("thex,dthex");
+  app.add_option("--timeout", timeout_seconds, "seconds per run before it is killed")
+      ->default_val(300.0)
+      ->check(CLI::PositiveNumber);
+  app.add_option("--csv", csv, "also write every row (with all stage times) as CSV");
+  app.add_flag("--markdown", markdown, "print the tables as Markdown (for the README)");
+  app.add_option("--subdivide", subdivide, "Loop-subdivide every input this many times first (4^K triangles)")
+      ->check(CLI::Range(0, 6));
+  app.add_option("--work-dir", work_dir, "where subdivided surfaces are written (default: the temp folder)");
+  app.add_option("--eps", dthex_options.eps, "DTHex coarsening factor")->default_val(0.1)->check(CLI::Range(1e-6, 0.999999));
+  app.add_option("--dice", dthex_options.dice, "DTHex dicing")->default_val(2)->check(CLI::Range(1, 8));
+  app.add_flag("-q,--quiet", quiet, "no progress lines on stderr");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "benchmark: %s\n", e.what());
+    return 2;
+  }
+
+  std::vector<std::string> methods;
+  {
+    std::stringstream ss(methods_text);
+    for (std::string m; std::getline(ss, m, ',');) {
+      if (m != "thex" && m != "dthex") {
+        std::fprintf(stderr, "benchmark: --methods: unknown method '%s' (use thex, dthex)\n", m.c_str());
+        return 2;
+      }
+      methods.push_back(m);
+    }
+  }
+  if (files.empty()) {
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(meshes_folder, ec)) {
+      std::string ext = entry.path().extension().string();
+      std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+      if (ext == ".off" || ext == ".obj" || ext == ".stl" || ext == ".ply") files.push_back(entry.path().string());
+    }
+    if (ec) {
+      std::fprintf(stderr, "benchmark: --meshes: cannot list '%s': %s\n", meshes_folder.c_str(), ec.message().c_str());
+      return 2;
+    }
+    std::sort(files.begin(), files.end());
+  }
+  if (!only.empty())
+    files.erase(std::remove_if(files.begin(), files.end(),
+                               [&](const std::string& f) { return fs::path(f).filename().string().find(only) == std::string::npos; }),
+                files.end());
+  if (files.empty()) {
+    std::fprintf(stderr, "benchmark: no surfaces to run\n");
+    return 2;
+  }
+  const fs::path folder = work_dir.empty() ? fs::temp_directory_path() / "dthex_benchmark" : fs::path(work_dir);
+
+  dthex::PipelineOptions thex_options = dthex_options;
+  thex_options.thex_only = true;
+  std::vector<Row> rows;
+  for (const std::string& file : files) {
+    std::string name = fs::path(file).stem().string(), path = file;
+    if (subdivide > 0) {
+      try {
+        path = subdivided_copy(file, subdivide, folder, name);
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "benchmark: %s: cannot subdivide: %s\n", file.c_str(), e.what());
+        return 2;
+      }
+      if (!quiet) std::fprintf(stderr, "benchmark: %s -> %s\n", file.c_str(), path.c_str());
+    }
+    for (const std::string& method : methods) {
+      if (!quiet) std::fprintf(stderr, "benchmark: %s %s ...\n", name.c_str(), method.c_str());
+      rows.push_back(run_one(path, name, method, method == "thex" ? thex_options : dthex_options, timeout_seconds));
+      const Row& r = rows.back();
+      if (!quiet)
+        std::fprintf(stderr, "benchmark: %s %s: %s, %.2f s, %.0f MB%s%s\n", name.c_str(), method.c_str(),
+                     r.status.c_str(), r.wall_seconds, r.peak_mb, r.message.empty() ? "" : ": ", r.message.c_str());
+    }
+  }
+
+  char date[64];
+  const std::time_t now = std::time(nullptr);
+  std::strftime(date, sizeof date, "%Y-%m-%d", std::gmtime(&now));
+  const long cores = ::sysconf(_SC_NPROCESSORS_ONLN);
+  if (markdown)
+    std::printf("Measured %s on %ld cores (DTHex eps %g, dice %d; THex = --thex-only; each run alone in a child "
+                "process; peak MB = its maximum resident set).\n\n",
+                date, cores, dthex_options.eps, dthex_options.dice);
+  else
+    std::printf("benchmark %s, %ld cores, DTHex eps %g dice %d\n", date, cores, dthex_options.eps, dthex_options.dice);
+  std::fputs(tables(rows, markdown).c_str(), stdout);
+  if (!csv.empty()) {
+    try {
+      write_csv(rows, csv);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "benchmark: --csv: %s\n", e.what());
+      return 2;
+    }
+  }
+  const bool all_ok = std::all_of(rows.begin(), rows.end(), [](const Row& r) { return r.status == "ok"; });
+  return all_ok ? 0 : 3;
+}
