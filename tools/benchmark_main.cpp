@@ -369,6 +369,10 @@ int main(int argc, char** argv) {
   app.add_option("--work-dir", work_dir, "where subdivided surfaces are written (default: the temp folder)");
   app.add_option("--eps", dthex_options.eps, "DTHex coarsening factor")->default_val(0.1)->check(CLI::Range(1e-6, 0.999999));
   app.add_option("--dice", dthex_options.dice, "DTHex dicing")->default_val(2)->check(CLI::Range(1, 8));
+  app.add_option("--time-limit", dthex_options.time_limit_seconds,
+                 "seconds for TetGen and for the untangling optimizer each, in both methods (as om_dthex --time-limit)")
+      ->default_val(600.0)
+      ->check(CLI::PositiveNumber);
   app.add_flag("-q,--quiet", quiet, "no progress lines on stderr");
   try {
     app.parse(argc, argv);
@@ -446,7 +450,8 @@ int main(int argc, char** argv) {
                 "process; peak MB = its maximum resident set).\n\n",
                 date, cores, dthex_options.eps, dthex_options.dice);
   else
-    std::printf("benchmark %s, %ld cores, DTHex eps %g dice %d\n", date, cores, dthex_options.eps, dthex_options.dice);
+    std::printf("benchmark %s, %ld cores, DTHex eps %g dice %d, time limit %g s\n", date, cores, dthex_options.eps,
+                dthex_options.dice, dthex_options.time_limit_seconds);
   std::fputs(tables(rows, markdown).c_str(), stdout);
   if (!csv.empty()) {
     try {
