@@ -236,6 +236,10 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
     timed_stage(result, progress, "untangle", [&] {
       UntangleOptions untangle_options;
       untangle_options.time_limit_seconds = options.time_limit_seconds;
+      // The untangler only removes inversions and runs its global shape pass; the hexes
+      // still below a useful scaled Jacobian are raised by the local smoother next, which
+      // is far cheaper than the untangler's regional repairs and gets further.
+      untangle_options.target_scaled_jacobian = 0;
       const UntangleReport report = untangle_and_smooth(result.hexes, input_bvh, untangle_options);
       result.inverted_before_untangle = report.inverted_before;
       std::ostringstream out;
