@@ -50,6 +50,8 @@ class NodeSmoother {
     report.min_scaled_jacobian_before = min_sj();
     report.avg_shape_before = avg_shape();
     const double target = options_.target_scaled_jacobian;
+    size_t last_below = sj_.size() + 1;
+    double last_min = -2;
     for (int sweep = 0; sweep < options_.max_sweeps + options_.shape_sweeps; ++sweep) {
       const bool shape_pass = sweep >= options_.max_sweeps;
       std::vector<char> candidate(mesh_.nodes.size(), 0);
@@ -81,7 +83,13 @@ class NodeSmoother {
       report.moves += moved;
       ++report.sweeps;
       if (report.time_limit_reached) break;
-      if (moved == 0) {
+      // A scaled-Jacobian sweep that neither lifted the minimum nor cleared a hex is the last.
+      const size_t below = size_t(std::count_if(sj_.begin(), sj_.end(), [&](double q) { return q < target; }));
+      const double minimum = min_sj();
+      const bool stalled = !shape_pass && below >= last_below && minimum < last_min + 1e-3;
+      last_below = below;
+      last_min = minimum;
+      if (moved == 0 || stalled) {
         if (shape_pass) break;
         sweep = options_.max_sweeps - 1;
       }
@@ -118,7 +126,7 @@ class NodeSmoother {
     for (size_t k = 0; k < hexes.size(); ++k) {
       const auto corners = hex_corners(mesh_, size_t(hexes[k]));
       const double q = hex_scaled_jacobian(corners);
-      const double sh = hex_shape(corners);
+      const double sh = need_shape_ ? hex_shape(corners) : 0.0;
       s.min_sj = std::min(s.min_sj, q);
       s.clipped_sj_sum += std::min(q, options_.target_scaled_jacobian);
       s.shape_sum += sh;
@@ -164,6 +172,22 @@ class NodeSmoother {
     return true;
   }
 
+  // True if a surface triangle within `radius` of x faces more than the allowed turn away
+  // from `normal`: x is on a feature edge or corner, which a slide would round off.
+  bool on_feature(const Vec3& x, const Vec3& normal, double radius) const {
+    const double min_cos = std::cos(options_.max_normal_turn_deg * M_PI / 180.0);
+    const Eigen::AlignedBox3d box(x - Vec3::Constant(radius), x + Vec3::Constant(radius));
+    bool feature = false;
+    const auto& p = surface_.points();
+    surface_.for_each_in_box(box, [&](int t) {
+      if (feature || surface_normals_[size_t(t)].dot(normal) >= min_cos) return;
+      const auto& f = surface_.triangles()[size_t(t)];
+      const Vec3 c = closest_point_on_triangle(x, p[size_t(f[0])], p[size_t(f[1])], p[size_t(f[2])]);
+      if ((c - x).squaredNorm() <= radius * radius) feature = true;
+    });
+    return feature;
+  }
+
   bool improve_node(int v, bool shape_pass) {
     const auto& hexes = node_hexes_[size_t(v)];
     if (hexes.empty()) return false;
@@ -183,7 +207,7 @@ class NodeSmoother {
       const TriangleBvh::ClosestPoint cp = surface_.closest_point(x);
       if (cp.triangle < 0) return false;
       normal = surface_normals_[size_t(cp.triangle)];
-      if (normal.squaredNorm() == 0) return false;
+      if (normal.squaredNorm() == 0 || on_feature(x, normal, 1e-6 * scale)) return false;
       const Vec3 helper = std::abs(normal.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
       const Vec3 t1 = normal.cross(helper).normalized(), t2 = normal.cross(t1);
       for (double a = 0; a < 2 * M_PI - 1e-9; a += M_PI / 4) directions.push_back(std::cos(a) * t1 + std::sin(a) * t2);
@@ -197,12 +221,13 @@ class NodeSmoother {
     }
 
     node_hexes_count_ = hexes.size();
+    need_shape_ = shape_pass;
     Score current = score_at(v, x, nullptr, nullptr);
     if (!shape_pass && current.min_sj >= options_.target_scaled_jacobian) return false;
     bool moved = false;
     int last_good = -1;
     int trials = 0;
-    for (double step = options_.initial_step * scale; step >= options_.min_step * scale && trials < 80;) {
+    for (double step = options_.initial_step * scale; step >= options_.min_step * scale && trials < (shape_pass ? 40 : 80);) {
       bool improved = false;
       // Try the direction that worked last time first.
       for (size_t k = 0; k < directions.size() && !improved; ++k) {
@@ -223,6 +248,7 @@ class NodeSmoother {
     }
     if (!moved) return false;
     std::vector<double> sj(hexes.size()), shape(hexes.size());
+    need_shape_ = true;
     score_at(v, x, &sj, &shape);
     mesh_.nodes[size_t(v)] = x;
     for (size_t k = 0; k < hexes.size(); ++k) sj_[size_t(hexes[k])] = sj[k], shape_[size_t(hexes[k])] = shape[k];
@@ -237,6 +263,7 @@ class NodeSmoother {
   std::vector<double> sj_, shape_;
   std::vector<Vec3> surface_normals_;
   size_t node_hexes_count_ = 1;  //!< hexes around the node being moved
+  bool need_shape_ = true;       //!< scoring computes shapes (shape pass, final update)
 };
 
 }  // namespace

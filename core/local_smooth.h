@@ -19,8 +19,8 @@ struct LocalSmoothOptions {
   //! Shape sweeps after the scaled-Jacobian sweeps: nodes of hexes whose shape is below
   //! `shape_threshold` move to raise the mean shape of their hexes, never letting the
   //! smallest scaled Jacobian around them drop below min(its value, target).
-  int shape_sweeps = 3;
-  double shape_threshold = 0.8;
+  int shape_sweeps = 2;
+  double shape_threshold = 0.7;
   //! Compass-search steps, as fractions of the node's mean incident edge length.
   double initial_step = 0.15;
   double min_step = 2e-3;

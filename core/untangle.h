@@ -27,8 +27,8 @@ struct UntangleOptions {
   //! The global shape pass over every interior node: rounds and L-BFGS iterations per
   //! round (0 iterations skips it). Once nothing is inverted it is a barrier: it never
   //! re-inverts.
-  int smoothing_rounds = 2;
-  int smoothing_iterations = 150;
+  int smoothing_rounds = 1;
+  int smoothing_iterations = 60;
   //! Where moving interior nodes is not enough, let the boundary nodes of the repair
   //! region slide on the surface (tangent-plane moves, then back onto the surface), in up
   //! to this many passes.
