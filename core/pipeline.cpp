@@ -4,9 +4,11 @@
 #include "core/coarsen.h"
 #include "core/conformity.h"
 #include "core/dice.h"
+#include "core/local_smooth.h"
 #include "core/node_count.h"
 #include "core/project_boundary.h"
 #include "core/read_surface.h"
+#include "core/split_surface_tets.h"
 #include "core/surface_distance.h"
 #include "core/tetrahedralize.h"
 #include "core/thex.h"
@@ -97,7 +99,9 @@ size_t predicted_nodes(const TriSurface& input, const PipelineOptions& options, 
   } catch (const InputError& e) {
     throw MeshingError(std::string("coarsening produced an invalid surface: ") + e.what());
   }
-  return diced_thex_nodes(count_tet_entities(tetrahedralize(coarse, tetgen_options_for(options))), options.dice);
+  TetMesh tets = tetrahedralize(coarse, tetgen_options_for(options));
+  if (options.project) split_surface_tets(tets);
+  return diced_thex_nodes(count_tet_entities(tets), options.dice);
 }
 
 // Bisection on log(eps): the node count falls as eps grows (not strictly: it can step).
@@ -202,6 +206,14 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
     result.tet_shape = summarize(tet_shapes(tets));
     return count_text("tets", result.tets);
   });
+  if (!options.thex_only && options.project) {
+    // Tets with two boundary faces would give hexes that flatten on projection.
+    timed_stage(result, progress, "split surface tets", [&] {
+      const SplitSurfaceTetsReport split = split_surface_tets(tets);
+      result.tets = tets.tets.size();
+      return count_text("tets split", split.split_tets) + ", " + count_text("interior edges split", split.split_edges);
+    });
+  }
 
   timed_stage(result, progress, "thex", [&] {
     result.hexes = thex(tets);
@@ -224,10 +236,23 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
     timed_stage(result, progress, "untangle", [&] {
       UntangleOptions untangle_options;
       untangle_options.time_limit_seconds = options.time_limit_seconds;
+      // The untangler only removes inversions and runs its global shape pass; the hexes
+      // still below a useful scaled Jacobian are raised by the local smoother next, which
+      // is far cheaper than the untangler's regional repairs and gets further.
+      untangle_options.target_scaled_jacobian = 0;
       const UntangleReport report = untangle_and_smooth(result.hexes, input_bvh, untangle_options);
       result.inverted_before_untangle = report.inverted_before;
       std::ostringstream out;
       out << report.inverted_before << " inverted before, " << report.inverted_after << " after";
+      return out.str();
+    });
+    timed_stage(result, progress, "smooth worst", [&] {
+      LocalSmoothOptions smooth_options;
+      smooth_options.time_limit_seconds = options.time_limit_seconds;
+      const LocalSmoothReport report = smooth_worst_hexes(result.hexes, input_bvh, smooth_options);
+      std::ostringstream out;
+      out << "min scaled Jacobian " << report.min_scaled_jacobian_before << " -> " << report.min_scaled_jacobian_after
+          << ", avg shape " << report.avg_shape_before << " -> " << report.avg_shape_after;
       return out.str();
     });
   }

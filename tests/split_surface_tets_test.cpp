@@ -1,0 +1,128 @@
+// SPDX-License-Identifier: MIT
+#include "core/split_surface_tets.h"
+
+#include "core/read_surface.h"
+#include "core/tetrahedralize.h"
+#include "core/thex.h"
+#include "core/conformity.h"
+#include "core/quality.h"
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+
+using namespace dthex;
+
+namespace {
+
+double signed_volume(const TetMesh& m, const std::array<int, 4>& t) {
+  const Vec3& a = m.points[size_t(t[0])];
+  return (m.points[size_t(t[1])] - a).dot((m.points[size_t(t[2])] - a).cross(m.points[size_t(t[3])] - a)) / 6.0;
+}
+
+// Every interior triangle is shared by exactly two tets with opposite orientation, every
+// boundary face by one: the tet mesh is conforming and its boundary is the given faces.
+void expect_conforming(const TetMesh& m) {
+  std::map<std::array<int, 3>, int> uses;
+  for (const auto& t : m.tets)
+    for (int skip = 0; skip < 4; ++skip) {
+      std::array<int, 3> key{};
+      for (int i = 0, k = 0; i < 4; ++i)
+        if (i != skip) key[size_t(k++)] = t[size_t(i)];
+      std::sort(key.begin(), key.end());
+      ++uses[key];
+    }
+  size_t boundary = 0;
+  for (const auto& [key, n] : uses) {
+    ASSERT_LE(n, 2);
+    if (n == 1) ++boundary;
+  }
+  EXPECT_EQ(boundary, m.boundary_faces.size());
+  for (const auto& f : m.boundary_faces) {
+    std::array<int, 3> key = f;
+    std::sort(key.begin(), key.end());
+    EXPECT_EQ(uses[key], 1);
+  }
+}
+
+}  // namespace
+
+// The icosahedron meshed without Steiner points: after the split the mesh is a
+// valid conforming tet mesh of the same volume, no tet has two boundary faces, and no
+// interior edge joins two boundary vertices.
+TEST(SplitSurfaceTets, IcosahedronStaysConformingWithoutFlatCornerTets) {
+  const TriSurface surface = read_surface(DTHEX_SOURCE_DIR "/meshes/icosahedron.off");
+  TetgenOptions options;
+  options.switches = "pY";  // no Steiner points: every tet has all its vertices on the boundary
+  TetMesh tets = tetrahedralize(surface, options);
+  double volume_before = 0;
+  for (const auto& t : tets.tets) volume_before += signed_volume(tets, t);
+  const auto faces_before = tets.boundary_faces;
+
+  const SplitSurfaceTetsReport report = split_surface_tets(tets);
+  EXPECT_GT(report.split_edges + report.split_tets, 0u);
+  EXPECT_EQ(tets.boundary_faces, faces_before);
+
+  double volume_after = 0;
+  for (const auto& t : tets.tets) {
+    const double v = signed_volume(tets, t);
+    EXPECT_GT(v, 0);
+    volume_after += v;
+  }
+  EXPECT_NEAR(volume_after, volume_before, 1e-12 * volume_before);
+  expect_conforming(tets);
+
+  std::vector<char> on_boundary(tets.points.size(), 0);
+  std::vector<std::array<int, 3>> keys;
+  std::vector<std::pair<int, int>> boundary_edges;
+  for (const auto& f : tets.boundary_faces) {
+    for (int v : f) on_boundary[size_t(v)] = 1;
+    std::array<int, 3> key = f;
+    std::sort(key.begin(), key.end());
+    keys.push_back(key);
+    for (int i = 0; i < 3; ++i) boundary_edges.emplace_back(std::minmax(f[size_t(i)], f[size_t((i + 1) % 3)]));
+  }
+  std::sort(keys.begin(), keys.end());
+  std::sort(boundary_edges.begin(), boundary_edges.end());
+  for (const auto& t : tets.tets) {
+    int boundary_faces = 0;
+    for (int skip = 0; skip < 4; ++skip) {
+      std::array<int, 3> key{};
+      for (int i = 0, k = 0; i < 4; ++i)
+        if (i != skip) key[size_t(k++)] = t[size_t(i)];
+      std::sort(key.begin(), key.end());
+      boundary_faces += std::binary_search(keys.begin(), keys.end(), key);
+    }
+    EXPECT_LT(boundary_faces, 2);
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) {
+        const std::pair<int, int> e = std::minmax(t[size_t(i)], t[size_t(j)]);
+        if (on_boundary[size_t(e.first)] && on_boundary[size_t(e.second)])
+          EXPECT_TRUE(std::binary_search(boundary_edges.begin(), boundary_edges.end(), e))
+              << "interior edge " << e.first << "-" << e.second << " joins two boundary vertices";
+      }
+  }
+  // THex of the split mesh: conforming, nothing inverted.
+  const HexMesh hexes = thex(tets);
+  EXPECT_TRUE(check_conformity(hexes).conforming());
+  EXPECT_EQ(measure_hex_quality(hexes).inverted, 0u);
+}
+
+// A single tet has four boundary faces: it is split at its centroid into four tets with one
+// boundary face each.
+TEST(SplitSurfaceTets, SingleTetSplitsIntoFour) {
+  TetMesh m;
+  m.points = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+  m.tets = {{0, 1, 2, 3}};
+  m.boundary_faces = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  const SplitSurfaceTetsReport report = split_surface_tets(m);
+  EXPECT_EQ(report.split_tets, 1u);
+  EXPECT_EQ(report.split_edges, 0u);
+  ASSERT_EQ(m.tets.size(), 4u);
+  ASSERT_EQ(m.points.size(), 5u);
+  EXPECT_LT((m.points[4] - Vec3(0.25, 0.25, 0.25)).norm(), 1e-15);
+  for (const auto& t : m.tets) EXPECT_NEAR(signed_volume(m, t), 1.0 / 24.0, 1e-15);
+  expect_conforming(m);
+}
