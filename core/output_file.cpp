@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "core/output_file.h"
 
+#include "core/atomic_file.h"
+
 #include <cerrno>
 #include <cstdarg>
 #include <cstring>
@@ -43,7 +45,7 @@ void OutputFile::close() {
 
 void OutputFile::fail() const {
   const int error = errno;
-  throw std::runtime_error("writing '" + target_ + "' failed: " +
+  throw OutputError("writing '" + target_ + "' failed: " +
                            (error ? std::strerror(error) : "unknown I/O error"));
 }
 

@@ -3,6 +3,8 @@
 // line numbers are 1-based.
 #include "core/read_surface.h"
 
+#include "core/memory_budget.h"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -21,6 +23,12 @@ constexpr uint64_t kMaxCount = uint64_t(std::numeric_limits<int>::max());
 
 [[noreturn]] void fail(const std::string& path, const std::string& problem) {
   throw InputError(path + ": " + problem);
+}
+
+//! Refuses, before anything is allocated, a surface whose meshing could not fit in memory.
+void check_triangle_budget(const std::string& path, uint64_t triangles) {
+  check_memory_budget(path, "meshing " + std::to_string(triangles) + " triangles",
+                      triangles * kPipelineBytesPerInputTriangle);
 }
 
 std::string at_line(size_t line) { return " (line " + std::to_string(line) + ")"; }
@@ -61,9 +69,14 @@ bool parse_int(std::string_view s, int64_t& value) {
   return result.ec == std::errc() && result.ptr == s.data() + s.size();
 }
 
+//! Quotes a piece of the file for a message: at most 40 bytes, and bytes that are not
+//! printable ASCII (binary junk, NUL, escape sequences) shown as '?', so that the message
+//! stays one readable line on any terminal.
 std::string quote_text(std::string_view s) {
-  if (s.size() > 40) return "'" + std::string(s.substr(0, 40)) + "...'";
-  return "'" + std::string(s) + "'";
+  std::string text(s.substr(0, 40));
+  for (char& c : text)
+    if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
+  return "'" + text + (s.size() > 40 ? "...'" : "'");
 }
 
 std::string load_file(const std::string& path) {
@@ -76,6 +89,7 @@ std::string load_file(const std::string& path) {
   const uintmax_t size = fs::file_size(path, ec);
   if (ec) fail(path, "cannot determine the file size (" + ec.message() + ")");
   if (size == 0) fail(path, "is empty");
+  check_memory_budget(path, "reading the " + std::to_string(size) + "-byte file", size);
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot be opened for reading");
   std::string data(size_t(size), '\0');
@@ -236,6 +250,7 @@ TriSurface read_off(const std::string& path, std::string_view text) {
 
   Builder builder{path, {}};
   builder.surface.points.reserve(size_t(nv));
+  check_triangle_budget(path, uint64_t(nf));
   builder.surface.triangles.reserve(size_t(nf));
   for (int64_t i = 0; i < nv; ++i) {
     if (!lines.next(line))
@@ -323,6 +338,7 @@ float read_f32_le(const char* p) {
 }
 
 TriSurface read_binary_stl(const std::string& path, std::string_view data, uint32_t count) {
+  check_triangle_budget(path, count);
   TriSurface surface;
   surface.triangles.reserve(count);
   VertexMerger merger(surface, size_t(count) / 2 + 3);
@@ -629,10 +645,14 @@ TriSurface read_ply(const std::string& path, std::string_view data) {
 
   Builder builder{path, {}};
   builder.surface.points.reserve(size_t(vertex->count));
+  check_triangle_budget(path, face->count);
   builder.surface.triangles.reserve(size_t(face->count));
   PlyValues values(path, data, pos, line_number + 1, ascii, format == "binary_big_endian");
   std::vector<int64_t> corners;
   for (const PlyElement& e : elements) {
+    // An element without properties occupies no bytes: its count, however large, is
+    // not checked by the size bound above and must not drive a loop.
+    if (e.properties.empty()) continue;
     for (uint64_t r = 0; r < e.count; ++r) {
       const std::string what = e.name + " " + std::to_string(r);
       Vec3 p = Vec3::Zero();
@@ -665,21 +685,32 @@ TriSurface read_ply(const std::string& path, std::string_view data) {
   return builder.finish();
 }
 
+using Reader = TriSurface (*)(const std::string&, std::string_view);
+
+Reader reader_for(const std::string& name, const std::string& extension_as_given) {
+  const std::string extension = to_lower(extension_as_given);
+  if (extension == ".off") return read_off;
+  if (extension == ".obj") return read_obj;
+  if (extension == ".stl") return read_stl;
+  if (extension == ".ply") return read_ply;
+  fail(name, "unknown surface format " + quote_text(extension.empty() ? std::string("(no extension)") : extension) +
+                 ", expected .off, .obj, .stl or .ply");
+}
+
 }  // namespace
 
 TriSurface read_surface(const std::string& path) {
-  const std::string extension = to_lower(std::filesystem::path(path).extension().string());
-  using Reader = TriSurface (*)(const std::string&, std::string_view);
-  Reader reader = nullptr;
-  if (extension == ".off") reader = read_off;
-  else if (extension == ".obj") reader = read_obj;
-  else if (extension == ".stl") reader = read_stl;
-  else if (extension == ".ply") reader = read_ply;
-  else
-    fail(path, "unknown surface format " + quote_text(extension.empty() ? std::string("(no extension)") : extension) +
-                   ", expected .off, .obj, .stl or .ply");
+  const Reader reader = reader_for(path, std::filesystem::path(path).extension().string());
   const std::string data = load_file(path);
-  return reader(path, data);
+  TriSurface surface = reader(path, data);
+  check_triangle_budget(path, surface.triangles.size());  // OBJ and ASCII STL announce no count
+  return surface;
+}
+
+TriSurface read_surface_from_memory(std::string_view bytes, const std::string& extension, const std::string& name) {
+  const Reader reader = reader_for(name, extension);
+  if (bytes.empty()) fail(name, "is empty");
+  return reader(name, bytes);
 }
 
 }  // namespace dthex

@@ -8,6 +8,7 @@
 #include "core/types.h"
 
 #include <string>
+#include <string_view>
 
 namespace dthex {
 
@@ -35,5 +36,11 @@ namespace dthex {
 //! - PLY: element "vertex" with x, y, z of any scalar type, element "face" with a list
 //!   property vertex_indices (or vertex_index); other properties and elements are skipped.
 TriSurface read_surface(const std::string& path);
+
+//! Parses bytes already in memory as the format of extension (".off", ".obj", ".stl",
+//! ".ply", case-insensitive), with the same checks and messages as read_surface();
+//! name stands for the file in messages. Used by the fuzzers and for non-file sources.
+TriSurface read_surface_from_memory(std::string_view bytes, const std::string& extension,
+                                    const std::string& name = "<memory>");
 
 }  // namespace dthex

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "core/tetrahedralize.h"
 
+#include "core/memory_budget.h"
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cerrno>
@@ -11,6 +13,8 @@
 #include <sstream>
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/prctl.h>
+#include <sys/resource.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -70,6 +74,32 @@ bool write_all(int fd, const void* data, size_t bytes) {
     bytes -= size_t(n);
   }
   return true;
+}
+
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kAddressSanitizer = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kAddressSanitizer = true;
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+
+//! Keeps the child from outliving its parent (a killed om_dthex must not leave TetGen
+//! running) and from taking more memory than the machine has: past the cap TetGen's
+//! allocations fail and it exits with its out-of-memory code instead of making the
+//! kernel kill something. AddressSanitizer reserves terabytes of address space, so
+//! there the cap is left off.
+void confine_child(pid_t parent, uint64_t address_space_cap) {
+  ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (::getppid() != parent) ::_exit(kExitUnknownException);  // the parent died before prctl
+  if (!kAddressSanitizer && address_space_cap > 0) {
+    rlimit limit{rlim_t(address_space_cap), rlim_t(address_space_cap)};
+    ::setrlimit(RLIMIT_AS, &limit);
+  }
 }
 
 //! Runs in the child: builds TetGen's input, runs it, streams the result. Never returns.
@@ -254,6 +284,11 @@ TetMesh tetrahedralize(const TriSurface& surface, const TetgenOptions& options) 
   validate(surface, options);
   const std::string switches = options.switches + "Qz";
 
+  // Computed before fork(): the child only calls async-signal-safe functions until TetGen.
+  const uint64_t used = virtual_size_bytes(), available = available_memory_bytes();
+  const uint64_t address_space_cap = used > 0 && available < UINT64_MAX - used ? used + available : 0;
+  const pid_t parent = ::getpid();
+
   int fds[2];
   if (::pipe(fds) != 0) throw MeshingError(std::string("tetrahedralize: cannot create a pipe: ") + std::strerror(errno));
   const pid_t child = ::fork();
@@ -264,6 +299,7 @@ TetMesh tetrahedralize(const TriSurface& surface, const TetgenOptions& options) 
   }
   if (child == 0) {
     ::close(fds[0]);
+    confine_child(parent, address_space_cap);
     run_tetgen_child(surface, switches, fds[1]);
   }
   ::close(fds[1]);

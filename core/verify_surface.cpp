@@ -126,6 +126,8 @@ double winding_contribution(const Vec3& p, const Vec3& a, const Vec3& b, const V
   return 2.0 * std::atan2(numerator, denominator) / (4.0 * M_PI);
 }
 
+constexpr double kMaxCoordinate = 1e100;
+
 }  // namespace
 
 SurfaceStats verify_surface(TriSurface& surface, const std::string& name, const VerifyOptions& options) {
@@ -142,6 +144,11 @@ SurfaceStats verify_surface(TriSurface& surface, const std::string& name, const 
   // 2. non-finite coordinates
   for (int v = 0; v < nv; ++v)
     if (!P[size_t(v)].allFinite()) refuse("non-finite coordinates", describe.vertex(v));
+  // Volumes and cross products cube and square coordinates: beyond 1e100 they overflow
+  // to inf later, in stages with far less helpful messages. No real geometry is that big.
+  for (int v = 0; v < nv; ++v)
+    if (P[size_t(v)].cwiseAbs().maxCoeff() > kMaxCoordinate)
+      refuse("coordinate out of range", describe.vertex(v) + " has a coordinate beyond +-1e100");
   // 3. face index out of range
   for (int t = 0; t < nt; ++t)
     for (int v : T[size_t(t)])

@@ -31,7 +31,8 @@ struct SurfaceStats {
 
 //! Checks the surface and refuses it with an InputError "<name>: <rule>: <first offending
 //! elements with ids and coordinates>" for the first broken rule, in this order:
-//! empty; non-finite coordinates; face index out of range; degenerate triangle (repeated
+//! empty; non-finite coordinates; coordinates beyond +-1e100 (they would overflow later
+//! geometry); face index out of range; degenerate triangle (repeated
 //! index, coincident corners, or area below 1e-12 of its longest edge squared); duplicate
 //! triangles (same vertex set); open boundary edge / non-manifold edge (an edge not shared
 //! by exactly two triangles); non-manifold vertex (its triangles form more than one fan);

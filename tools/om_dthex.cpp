@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 // om_dthex: closed triangle surface in, all-hexahedral mesh out (DTHex).
-// Exit codes: 0 success; 2 bad input or usage; 3 meshing failed; 1 internal error.
+// Exit codes: 0 success; 2 bad input or usage, or an output that cannot be written
+// (missing or unwritable folder, a directory, disk full, file-size limit); 3 meshing
+// failed; 1 internal error; 128 + N when stopped by signal N (130 for Ctrl-C).
 #include "core/atomic_file.h"
 #include "core/pipeline.h"
 #include "core/report.h"
@@ -37,15 +39,7 @@ std::string lower_extension(const std::string& path) {
 }
 
 // Fails early, before any meshing, when an output could never be written.
-void check_writable(const std::string& option, const std::string& path) {
-  fs::path folder = fs::path(path).parent_path();
-  if (folder.empty()) folder = ".";
-  std::error_code ec;
-  if (!fs::is_directory(folder, ec))
-    throw dthex::InputError(option + " '" + path + "': folder '" + folder.string() + "' does not exist");
-  if (::access(folder.c_str(), W_OK) != 0)
-    throw dthex::InputError(option + " '" + path + "': folder '" + folder.string() + "' is not writable");
-}
+void check_writable(const std::string& option, const std::string& path) { dthex::check_output_path(option, path); }
 
 void validate(CommandLine& cl) {
   if (cl.output.empty()) {
@@ -70,6 +64,9 @@ void validate(CommandLine& cl) {
       throw dthex::InputError("--coarse-surface '" + cl.coarse_surface + "': unsupported extension '" + ext +
                               "' (use .off, .obj, .stl or .ply)");
     check_writable("--coarse-surface", cl.coarse_surface);
+    std::error_code ec;
+    if (fs::equivalent(cl.input, cl.coarse_surface, ec))
+      throw dthex::InputError("--coarse-surface '" + cl.coarse_surface + "' is the input file; it would be overwritten");
   }
 }
 
@@ -122,6 +119,7 @@ int run(CommandLine& cl) {
 
   progress.begin("write");
   dthex::HexFields fields{result.quality.shape, result.quality.scaled_jacobian};
+  dthex::AtomicWriteGroup outputs;  // all outputs appear together, or none does
   dthex::write_hex_mesh(result.hexes, cl.output, fields);
   if (!cl.coarse_surface.empty()) dthex::write_surface(result.coarse, cl.coarse_surface);
   if (!cl.report.empty()) {
@@ -129,6 +127,7 @@ int run(CommandLine& cl) {
     write_text(cl.report, html ? dthex::report_html(result, cl.pipeline, baseline.get())
                                : dthex::report_json(result, cl.pipeline, baseline.get()));
   }
+  outputs.commit();
   progress.end(cl.output);
 
   if (!cl.quiet) {
@@ -146,7 +145,8 @@ int main(int argc, char** argv) {
   CLI::App app{
       "om_dthex: turns a closed triangle surface (OFF, OBJ, STL, PLY) into an all-hexahedral mesh by DTHex:\n"
       "coarsen by curvature, tet-mesh (TetGen), THex, dice, put the boundary back on the input surface,\n"
-      "untangle. Exit codes: 0 success, 2 bad input or usage, 3 meshing failed, 1 internal error.",
+      "untangle. Exit codes: 0 success, 2 bad input or usage or an unwritable output (also a full disk),\n"
+      "3 meshing failed, 1 internal error, 130 interrupted.",
       "om_dthex"};
   app.add_option("INPUT", cl.input, "closed triangle surface: .off .obj .stl (ASCII or binary) .ply")->required();
   app.add_option("-o,--output", cl.output,

@@ -1,0 +1,69 @@
+// SPDX-License-Identifier: MIT
+// libFuzzer target: verify_surface on arbitrary small indexed surfaces. Points come
+// from a small integer grid (so coincidences, touching and crossing triangles are
+// frequent) or, when a flag byte says so, raw doubles (NaN, inf, huge, denormal).
+// Verification may refuse (InputError) but must never crash or throw anything else, and
+// what it accepts must satisfy its promises: indices in range, every edge shared by
+// exactly two triangles, positive enclosed volume (when self-intersections are checked).
+#include "core/verify_surface.h"
+
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <utility>
+
+namespace {
+
+struct Bytes {
+  const uint8_t* data;
+  size_t size, pos = 0;
+  bool empty() const { return pos >= size; }
+  uint8_t byte() { return pos < size ? data[pos++] : 0; }
+  double raw_double() {
+    double d = 0;
+    if (pos + sizeof d <= size) std::memcpy(&d, data + pos, sizeof d);
+    pos += sizeof d;
+    return d;
+  }
+};
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  Bytes in{data, size};
+  const uint8_t flags = in.byte();
+  const bool raw_coordinates = flags & 1;
+  const size_t n_points = 1 + in.byte() % 32;
+  dthex::TriSurface surface;
+  for (size_t i = 0; i < n_points; ++i) {
+    dthex::Vec3 p;
+    for (int k = 0; k < 3; ++k) p[k] = raw_coordinates ? in.raw_double() : double(int(in.byte() % 9) - 4);
+    surface.points.push_back(p);
+  }
+  while (!in.empty() && surface.triangles.size() < 64) {
+    std::array<int, 3> t;
+    // Mostly valid indices; occasionally out of range or negative.
+    for (int& v : t) v = (flags & 2) ? int(int8_t(in.byte())) : int(in.byte() % n_points);
+    surface.triangles.push_back(t);
+  }
+  dthex::VerifyOptions options;
+  options.check_self_intersections = !(flags & 4);
+  try {
+    const dthex::SurfaceStats stats = dthex::verify_surface(surface, "fuzz", options);
+    std::map<std::pair<int, int>, int> edge_uses;
+    for (const auto& t : surface.triangles)
+      for (int k = 0; k < 3; ++k) {
+        const int a = t[size_t(k)], b = t[size_t((k + 1) % 3)];
+        if (a < 0 || b < 0 || size_t(a) >= surface.points.size() || size_t(b) >= surface.points.size()) std::abort();
+        ++edge_uses[{std::min(a, b), std::max(a, b)}];
+      }
+    for (const auto& [edge, uses] : edge_uses)
+      if (uses != 2) std::abort();
+    // Without the self-intersection check, interpenetrating components are accepted and
+    // one may count as the other's cavity: the net volume promise needs the check.
+    if (options.check_self_intersections && !(stats.volume > 0)) std::abort();
+  } catch (const dthex::InputError&) {
+  }
+  return 0;
+}
