@@ -337,9 +337,9 @@ std::string tables(const std::vector<Row>& rows, bool markdown) {
     if (d.method != "dthex" || d.status != "ok") continue;
     for (const Row& t : rows)
       if (t.mesh == d.mesh && t.method == "thex" && t.status == "ok" && d.total_seconds > 0)
-        ratios << (markdown ? "- " : "  ") << d.mesh << ": DTHex " << fixed(t.total_seconds / d.total_seconds, 1)
-               << "x faster than THex, " << fixed(double(t.hexes) / std::max<size_t>(d.hexes, 1), 1)
-               << "x fewer hexes\n";
+        ratios << (markdown ? "- " : "  ") << d.mesh << ": THex seconds / DTHex seconds = "
+               << fixed(t.total_seconds / d.total_seconds, 2) << ", THex hexes / DTHex hexes = "
+               << fixed(double(t.hexes) / double(std::max<size_t>(d.hexes, 1)), 2) << "\n";
   }
   if (!ratios.str().empty()) out << "\n" << ratios.str();
   return out.str();
