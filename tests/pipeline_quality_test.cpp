@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: MIT
+// The "done when" criteria of the projection issue, asserted through the pipeline API on a
+// bundled biological mesh: no inverted hex, min scaled Jacobian >= 0.2, conforming with a
+// closed boundary, Hausdorff <= 1% of the bounding-box diagonal, volume within 2%, average
+// shape at least 0.1 above classic THex of the same input, with fewer nodes.
+#include "core/pipeline.h"
+
+#include "core/conformity.h"
+#include "core/surface_distance.h"
+
+#include <gtest/gtest.h>
+
+#include <map>
+
+using namespace dthex;
+
+namespace {
+
+// Every edge of the boundary quads is used by exactly two of them: the boundary is closed.
+bool boundary_closed(const HexMesh& mesh) {
+  std::map<std::pair<int, int>, int> uses;
+  for (const auto& q : boundary_quads(mesh))
+    for (int i = 0; i < 4; ++i) ++uses[std::minmax(q[size_t(i)], q[size_t((i + 1) % 4)])];
+  for (const auto& [edge, n] : uses)
+    if (n != 2) return false;
+  return !uses.empty();
+}
+
+void expect_done_when(const std::string& mesh, double eps, int dice) {
+  const std::string path = std::string(DTHEX_SOURCE_DIR "/meshes/") + mesh;
+  Progress quiet;
+  PipelineOptions thex_options;
+  thex_options.thex_only = true;
+  const PipelineResult thex = run_pipeline(path, thex_options, quiet);
+
+  PipelineOptions options;
+  options.eps = eps;
+  options.dice = dice;
+  const PipelineResult r = run_pipeline(path, options, quiet);
+  SCOPED_TRACE(mesh);
+  EXPECT_EQ(r.quality.inverted, 0u);
+  EXPECT_GE(r.quality.scaled_jacobian_stats.min, 0.2);
+  EXPECT_TRUE(r.conforming);
+  EXPECT_TRUE(boundary_closed(r.hexes));
+  EXPECT_LE(r.hausdorff, 0.01 * r.input_summary.bbox_diagonal);
+  EXPECT_NEAR(r.hex_volume, r.input_summary.volume, 0.02 * r.input_summary.volume);
+  EXPECT_GE(r.quality.shape_stats.avg, thex.quality.shape_stats.avg + 0.1);
+  EXPECT_LT(r.hexes.nodes.size(), thex.hexes.nodes.size());
+}
+
+}  // namespace
+
+TEST(PipelineQuality, LiverMeetsDoneWhen) { expect_done_when("liver.off", 0.2, 2); }
