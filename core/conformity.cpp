@@ -89,10 +89,9 @@ uint64_t edge_key(int a, int b) {
   return (uint64_t(uint32_t(a)) << 32) | uint32_t(b);
 }
 
-}  // namespace
 
-std::vector<std::array<int, 4>> boundary_quads(const HexMesh& mesh) {
-  const auto uses = sorted_face_uses(mesh);
+// The faces used once, as outward rings in hex order, from the sorted face uses.
+std::vector<std::array<int, 4>> boundary_quads_of(const HexMesh& mesh, const std::vector<FaceUse>& uses) {
   std::vector<int> items;
   for_each_face(uses, [&](size_t first, size_t count) {
     if (count == 1) items.push_back(uses[first].item);
@@ -102,6 +101,12 @@ std::vector<std::array<int, 4>> boundary_quads(const HexMesh& mesh) {
   quads.reserve(items.size());
   for (int item : items) quads.push_back(face_ring(mesh, item));
   return quads;
+}
+
+}  // namespace
+
+std::vector<std::array<int, 4>> boundary_quads(const HexMesh& mesh) {
+  return boundary_quads_of(mesh, sorted_face_uses(mesh));
 }
 
 ConformityReport check_conformity(const HexMesh& mesh) {
@@ -148,7 +153,7 @@ ConformityReport check_conformity(const HexMesh& mesh) {
   }
 
   // The boundary quad surface: edges, orientation, fans around each node.
-  const auto quads = boundary_quads(mesh);
+  const auto quads = boundary_quads_of(mesh, uses);  // the uses sorted above, not a second sort
   struct EdgeUse {
     uint64_t key;
     int quad, corner;  // the directed edge runs from corner to corner + 1 of quad
