@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "subprocess_util.h"
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -14,46 +16,18 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct CommandResult {
-  int exit_code = -1;
-  std::string out, err;
-};
+using dthex_test::CommandRun;
+using dthex_test::entries_in;
+using dthex_test::read_bytes;
+using dthex_test::write_bytes;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+// A whole meshing run under the sanitizer build takes minutes, not seconds; the bound only
+// has to turn a hang into a failure.
+CommandRun om_dthex(const std::string& args, const fs::path& dir) { return dthex_test::run_om_dthex(args, dir, "", 900); }
 
-fs::path scratch(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() / ("dthex_cli_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-CommandResult om_dthex(const std::string& args, const fs::path& dir) {
-  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string command = std::string(DTHEX_BINARY_DIR) + "/om_dthex " + args + " >" + out.string() + " 2>" +
-                              err.string() + " </dev/null";
-  const int status = std::system(command.c_str());
-  CommandResult r;
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  r.out = slurp(out);
-  r.err = slurp(err);
-  fs::remove(out);
-  fs::remove(err);
-  return r;
-}
+fs::path scratch(const std::string& name) { return dthex_test::fresh_dir("cli_" + name); }
 
 std::string mesh(const std::string& name) { return std::string(DTHEX_SOURCE_DIR) + "/meshes/" + name; }
-
-size_t files_in(const fs::path& dir) {
-  return size_t(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
-}
-
-void write_file(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 
 bool have_referee() {
   const std::string script = std::string(DTHEX_SHARED_DIR) + "/tools/hexeval.py";
@@ -64,7 +38,7 @@ bool have_referee() {
 
 TEST(Cli, HelpExplainsEveryOption) {
   const fs::path dir = scratch("help");
-  const CommandResult r = om_dthex("--help", dir);
+  const CommandRun r = om_dthex("--help", dir);
   EXPECT_EQ(r.exit_code, 0);
   for (const char* option : {"--output", "--eps", "--dice", "--hmax", "--thex-only", "--no-project", "--strict",
                              "--tetgen", "--time-limit", "--report", "--coarse-surface", "--quiet", "--verbose"})
@@ -73,10 +47,10 @@ TEST(Cli, HelpExplainsEveryOption) {
 
 TEST(Cli, MissingInputFileIsExit2NamingTheFile) {
   const fs::path dir = scratch("missing");
-  const CommandResult r = om_dthex((dir / "nope.off").string() + " -o " + (dir / "o.vtu").string(), dir);
+  const CommandRun r = om_dthex((dir / "nope.off").string() + " -o " + (dir / "o.vtu").string(), dir);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("nope.off"), std::string::npos) << r.err;
-  EXPECT_EQ(files_in(dir), 0u);
+  EXPECT_EQ(entries_in(dir), 0u);
 }
 
 TEST(Cli, BadOptionValuesAreExit2NamingTheOption) {
@@ -88,36 +62,36 @@ TEST(Cli, BadOptionValuesAreExit2NamingTheOption) {
   };
   for (const Case& c : {Case{"--eps -0.1", "--eps"}, Case{"--eps 1", "--eps"}, Case{"--eps abc", "--eps"},
                         Case{"--dice 0", "--dice"}, Case{"--hmax -1", "--hmax"}, Case{"--time-limit 0", "--time-limit"}}) {
-    const CommandResult r = om_dthex(in + out + " " + c.args, dir);
+    const CommandRun r = om_dthex(in + out + " " + c.args, dir);
     EXPECT_EQ(r.exit_code, 2) << c.args;
     EXPECT_NE(r.err.find(c.option), std::string::npos) << c.args << ": " << r.err;
   }
-  const CommandResult unknown = om_dthex(in + " -o " + (dir / "o.xyz").string(), dir);
+  const CommandRun unknown = om_dthex(in + " -o " + (dir / "o.xyz").string(), dir);
   EXPECT_EQ(unknown.exit_code, 2);
   EXPECT_NE(unknown.err.find("--output"), std::string::npos) << unknown.err;
-  const CommandResult folder = om_dthex(in + " -o /nonexistent_dthex_folder/o.vtu", dir);
+  const CommandRun folder = om_dthex(in + " -o /nonexistent_dthex_folder/o.vtu", dir);
   EXPECT_EQ(folder.exit_code, 2);
   EXPECT_NE(folder.err.find("--output"), std::string::npos) << folder.err;
-  EXPECT_EQ(files_in(dir), 0u);
+  EXPECT_EQ(entries_in(dir), 0u);
 }
 
 TEST(Cli, OpenSurfaceIsRefusedAndWritesNothing) {
   const fs::path dir = scratch("open");
   // A tetrahedron with one face missing.
-  write_file(dir / "open.off", "OFF\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n");
-  const CommandResult r = om_dthex((dir / "open.off").string() + " -o " + (dir / "o.vtu").string() + " --report " +
+  write_bytes(dir / "open.off", "OFF\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n");
+  const CommandRun r = om_dthex((dir / "open.off").string() + " -o " + (dir / "o.vtu").string() + " --report " +
                              (dir / "r.json").string(),
                          dir);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("open.off"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir / "o.vtu"));
   EXPECT_FALSE(fs::exists(dir / "r.json"));
-  EXPECT_EQ(files_in(dir), 1u);  // only the input
+  EXPECT_EQ(entries_in(dir), 1u);  // only the input
 }
 
 TEST(Cli, InwardSurfaceIsFlippedAndVerifies) {
   const fs::path dir = scratch("inward");
-  const CommandResult r = om_dthex(mesh("heart.off") + " --verify-only", dir);
+  const CommandRun r = om_dthex(mesh("heart.off") + " --verify-only", dir);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("flipped"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("15552 triangles"), std::string::npos) << r.out;
@@ -128,11 +102,11 @@ TEST(Cli, MeshesTheIcosahedronAndTheReportAgreesWithTheReferee) {
   // TetGen, THex, dicing, projection onto itself, untangling, writing, the JSON report.
   const fs::path dir = scratch("ico");
   const fs::path out = dir / "ico.vtu", report = dir / "ico.json";
-  const CommandResult r = om_dthex(mesh("icosahedron.off") + " -q --dice 2 -o " + out.string() + " --report " + report.string(), dir);
+  const CommandRun r = om_dthex(mesh("icosahedron.off") + " -q --dice 2 -o " + out.string() + " --report " + report.string(), dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(r.out.empty());  // -q
   ASSERT_TRUE(fs::exists(out));
-  const nlohmann::json j = nlohmann::json::parse(slurp(report));
+  const nlohmann::json j = nlohmann::json::parse(read_bytes(report));
   const size_t nodes = j["hex"]["nodes"], hexes = j["hex"]["hexes"], tets = j["tets"]["count"];
   EXPECT_EQ(hexes, 4 * 8 * tets);  // THex then dicing by 2
   EXPECT_EQ(j["hex"]["inverted"], 0);
@@ -143,7 +117,7 @@ TEST(Cli, MeshesTheIcosahedronAndTheReportAgreesWithTheReferee) {
   const std::string command = "/usr/bin/python3 " + std::string(DTHEX_SHARED_DIR) + "/tools/hexeval.py " +
                               out.string() + " --surface " + mesh("icosahedron.off") + " --json >" + referee.string();
   EXPECT_EQ(std::system(command.c_str()), 0) << "referee says the mesh is not valid";
-  std::string text = slurp(referee);
+  std::string text = read_bytes(referee);
   while (!text.empty() && text.back() == '\n') text.pop_back();
   const nlohmann::json h = nlohmann::json::parse(text.substr(text.rfind('\n') + 1));
   EXPECT_TRUE(h["valid"].get<bool>());
@@ -157,12 +131,12 @@ TEST(Cli, MeshesTheIcosahedronAndTheReportAgreesWithTheReferee) {
 TEST(Cli, WritesTheCoarseSurfaceAndItVerifies) {
   const fs::path dir = scratch("coarse");
   const fs::path coarse = dir / "coarse.off";
-  const CommandResult r = om_dthex(mesh("sphere728.off") + " -q --no-project -o " + (dir / "o.msh").string() +
+  const CommandRun r = om_dthex(mesh("sphere728.off") + " -q --no-project -o " + (dir / "o.msh").string() +
                              " --coarse-surface " + coarse.string(),
                          dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   ASSERT_TRUE(fs::exists(coarse));
-  const CommandResult v = om_dthex(coarse.string() + " --verify-only", dir);
+  const CommandRun v = om_dthex(coarse.string() + " --verify-only", dir);
   EXPECT_EQ(v.exit_code, 0) << v.err;
   EXPECT_NE(v.out.find("genus 0"), std::string::npos) << v.out;
   EXPECT_TRUE(fs::exists(dir / "o.msh"));
@@ -173,15 +147,15 @@ TEST(Cli, TargetNodesLandWithinTenPercent) {
   for (size_t target : {9000u, 16000u, 30000u}) {
     const fs::path report = dir / "r.json";
     // Projection moves nodes but adds none: --no-project keeps the test fast.
-    const CommandResult r = om_dthex(mesh("liver.off") + " -q --no-project --target-nodes " + std::to_string(target) +
+    const CommandRun r = om_dthex(mesh("liver.off") + " -q --no-project --target-nodes " + std::to_string(target) +
                                          " -o " + (dir / "o.vtu").string() + " --report " + report.string(),
                                      dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    const nlohmann::json j = nlohmann::json::parse(slurp(report));
+    const nlohmann::json j = nlohmann::json::parse(read_bytes(report));
     const double nodes = j["hex"]["nodes"].get<double>();
     EXPECT_NEAR(nodes, double(target), 0.1 * double(target)) << "target " << target;
   }
-  const CommandResult low = om_dthex(mesh("liver.off") + " -q --target-nodes 500 -o " + (dir / "low.vtu").string(), dir);
+  const CommandRun low = om_dthex(mesh("liver.off") + " -q --target-nodes 500 -o " + (dir / "low.vtu").string(), dir);
   EXPECT_EQ(low.exit_code, 2);
   EXPECT_NE(low.err.find("--target-nodes"), std::string::npos) << low.err;
   EXPECT_NE(low.err.find("at least"), std::string::npos) << low.err;
@@ -193,15 +167,15 @@ TEST(Cli, HtmlReportWithTheThexBaseline) {
   const fs::path dir = scratch("html");
   const fs::path html = dir / "r.html", json = dir / "r.json";
   const std::string in = mesh("sphere728.off");
-  const CommandResult r = om_dthex(in + " -q --compare-thex -o " + (dir / "o.vtu").string() + " --report " + html.string(), dir);
+  const CommandRun r = om_dthex(in + " -q --compare-thex -o " + (dir / "o.vtu").string() + " --report " + html.string(), dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const std::string page = slurp(html);
+  const std::string page = read_bytes(html);
   EXPECT_EQ(page.rfind("<!DOCTYPE html>", 0), 0u);
   EXPECT_NE(page.find("data-series=\"thex\""), std::string::npos);
   EXPECT_NE(page.find("<canvas id=\"view\""), std::string::npos);
-  const CommandResult j = om_dthex(in + " -q --compare-thex -o " + (dir / "o.vtu").string() + " --report " + json.string(), dir);
+  const CommandRun j = om_dthex(in + " -q --compare-thex -o " + (dir / "o.vtu").string() + " --report " + json.string(), dir);
   ASSERT_EQ(j.exit_code, 0) << j.err;
-  const nlohmann::json report = nlohmann::json::parse(slurp(json));
+  const nlohmann::json report = nlohmann::json::parse(read_bytes(json));
   ASSERT_TRUE(report.contains("thex_baseline"));
   const nlohmann::json& thex = report["thex_baseline"];
   EXPECT_TRUE(thex["options"]["thex_only"].get<bool>());
@@ -212,7 +186,7 @@ TEST(Cli, HtmlReportWithTheThexBaseline) {
   EXPECT_NE(page.find("data-key=\"thex.hexes\">" + std::to_string(thex["hex"]["hexes"].get<size_t>()) + "<"),
             std::string::npos);
   // An unknown report format is refused before any meshing.
-  const CommandResult bad = om_dthex(in + " -q -o " + (dir / "b.vtu").string() + " --report " + (dir / "r.txt").string(), dir);
+  const CommandRun bad = om_dthex(in + " -q -o " + (dir / "b.vtu").string() + " --report " + (dir / "r.txt").string(), dir);
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("--report"), std::string::npos) << bad.err;
   EXPECT_FALSE(fs::exists(dir / "b.vtu"));
@@ -228,10 +202,10 @@ TEST(Cli, UnwritableOutputFolderIsExit2NamingTheOption) {
   };
   for (const Case& c : {Case{"-o /proc/1/o.vtu", "--output"}, Case{out + " --report /proc/1/r.html", "--report"},
                         Case{out + " --coarse-surface /proc/1/c.off", "--coarse-surface"}}) {
-    const CommandResult r = om_dthex(in + " " + c.args, dir);
+    const CommandRun r = om_dthex(in + " " + c.args, dir);
     EXPECT_EQ(r.exit_code, 2) << c.args;
     EXPECT_NE(r.err.find(c.option), std::string::npos) << c.args << ": " << r.err;
     EXPECT_NE(r.err.find("not writable"), std::string::npos) << c.args << ": " << r.err;
   }
-  EXPECT_EQ(files_in(dir), 0u);
+  EXPECT_EQ(entries_in(dir), 0u);
 }

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 // Helpers for the tests that feed om_dthex hostile inputs and broken environments: small
-// surfaces written in every format, and running the command as a subprocess.
+// surfaces written in every format. Running the command is in subprocess_util.h.
 #pragma once
+
+#include "subprocess_util.h"
 
 #include <array>
 #include <cstdint>
@@ -83,56 +85,6 @@ inline std::string binary_stl_bytes(const Surface& s, const std::string& header 
     out.append(2, '\0');
   }
   return out;
-}
-
-inline void write_bytes(const fs::path& p, const std::string& bytes) {
-  std::ofstream(p, std::ios::binary) << bytes;
-}
-
-inline std::string read_bytes(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-inline fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("dthex_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-inline size_t entries_in(const fs::path& dir) {
-  return size_t(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
-}
-
-struct CommandRun {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-//! Runs `prefix om_dthex args` through the shell, bounded by `timeout` so that a hang
-//! shows as exit 124 instead of stalling the suite.
-inline CommandRun run_om_dthex(const std::string& args, const fs::path& scratch, const std::string& prefix = "",
-                        int timeout_seconds = 120) {
-  const fs::path out = scratch / "stdout.txt", err = scratch / "stderr.txt";
-  const std::string command = prefix + "timeout -s KILL " + std::to_string(timeout_seconds) + " " +
-                              std::string(DTHEX_BINARY_DIR) + "/om_dthex " + args + " >" + out.string() + " 2>" +
-                              err.string() + " </dev/null";
-  const int status = std::system(("bash -c " + [&] {
-                                   std::string q = "'";
-                                   for (char c : command) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-                                   return q + "'";
-                                 }())
-                                     .c_str());
-  CommandRun r;
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  r.out = read_bytes(out);
-  r.err = read_bytes(err);
-  fs::remove(out);
-  fs::remove(err);
-  return r;
 }
 
 }  // namespace dthex_test

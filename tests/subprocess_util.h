@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Test helpers: run an external referee (/usr/bin/python3 + meshio, hexeval.py) and
-// capture its output; run code in a forked child with a file-size limit.
+// Test helpers for everything that runs a process: the external referee (/usr/bin/python3
+// + meshio, hexeval.py), om_dthex itself (bounded by a timeout, stdout and stderr kept),
+// code in a forked child with a file-size limit, and scratch folders for their files.
 #pragma once
 
 #include <sys/resource.h>
@@ -9,7 +10,10 @@
 
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <functional>
+#include <sstream>
 #include <string>
 
 namespace dthex_test {
@@ -64,6 +68,54 @@ inline int run_with_file_size_limit(rlim_t max_file_bytes, const std::function<i
   int status = 0;
   ::waitpid(pid, &status, 0);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+namespace fs = std::filesystem;
+
+inline void write_bytes(const fs::path& p, const std::string& bytes) {
+  std::ofstream(p, std::ios::binary) << bytes;
+}
+
+inline std::string read_bytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+//! An empty folder of its own for one test (named after it and the process).
+inline fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("dthex_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+inline size_t entries_in(const fs::path& dir) {
+  return size_t(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
+}
+
+struct CommandRun {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+//! Runs `prefix om_dthex args` through bash, bounded by `timeout_seconds` so that a hang
+//! shows as exit 137 (killed) instead of stalling the suite.
+inline CommandRun run_om_dthex(const std::string& args, const fs::path& scratch, const std::string& prefix = "",
+                               int timeout_seconds = 120) {
+  const fs::path out = scratch / "stdout.txt", err = scratch / "stderr.txt";
+  const std::string command = prefix + "timeout -s KILL " + std::to_string(timeout_seconds) + " " +
+                              std::string(DTHEX_BINARY_DIR) + "/om_dthex " + args + " >" + out.string() + " 2>" +
+                              err.string() + " </dev/null";
+  const int status = std::system(("bash -c " + shell_quote(command)).c_str());
+  CommandRun r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.out = read_bytes(out);
+  r.err = read_bytes(err);
+  fs::remove(out);
+  fs::remove(err);
+  return r;
 }
 
 }  // namespace dthex_test
