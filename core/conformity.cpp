@@ -225,23 +225,36 @@ ConformityReport check_conformity(const HexMesh& mesh) {
       const Vec3 d = b - a;
       const double len2 = d.squaredNorm();
       if (len2 <= 0) continue;
-      // Walk the edge in half-cell steps and look at the 27 cells around each step.
+      // A node on the edge lies in a cell the edge's bounding box covers (a few cells for
+      // an edge of about one cell); for a long, slanted edge whose box holds many more cells
+      // than it crosses, walk it in half-cell steps and look at the 27 cells around each.
+      auto test_cell = [&](int64_t x, int64_t y, int64_t z) {
+        const auto it = grid.find(hash({x, y, z}));
+        if (it == grid.end()) return;
+        for (int v : it->second) {
+          if (v == e.second[0] || v == e.second[1] || hanging[size_t(v)]) continue;
+          const Vec3 p = mesh.nodes[size_t(v)] - a;
+          const double t = p.dot(d) / len2;
+          if (t <= 1e-9 || t >= 1 - 1e-9) continue;
+          if ((p - t * d).squaredNorm() <= 1e-18 * len2) hanging[size_t(v)] = 1;
+        }
+      };
+      const double slack = 1e-9 * std::sqrt(len2);
+      const auto lo = cell_of(a.cwiseMin(b) - Vec3::Constant(slack));
+      const auto hi = cell_of(a.cwiseMax(b) + Vec3::Constant(slack));
       const int steps = int(std::ceil(std::sqrt(len2) / (0.5 * cell))) + 1;
+      const double box_cells = double(hi[0] - lo[0] + 1) * double(hi[1] - lo[1] + 1) * double(hi[2] - lo[2] + 1);
+      if (box_cells <= 27.0 * (steps + 1)) {
+        for (int64_t x = lo[0]; x <= hi[0]; ++x)
+          for (int64_t y = lo[1]; y <= hi[1]; ++y)
+            for (int64_t z = lo[2]; z <= hi[2]; ++z) test_cell(x, y, z);
+        continue;
+      }
       for (int s = 0; s <= steps; ++s) {
         const auto centre = cell_of(a + (double(s) / steps) * d);
         for (int64_t x = centre[0] - 1; x <= centre[0] + 1; ++x)
           for (int64_t y = centre[1] - 1; y <= centre[1] + 1; ++y)
-            for (int64_t z = centre[2] - 1; z <= centre[2] + 1; ++z) {
-              const auto it = grid.find(hash({x, y, z}));
-              if (it == grid.end()) continue;
-              for (int v : it->second) {
-                if (v == e.second[0] || v == e.second[1] || hanging[size_t(v)]) continue;
-                const Vec3 p = mesh.nodes[size_t(v)] - a;
-                const double t = p.dot(d) / len2;
-                if (t <= 1e-9 || t >= 1 - 1e-9) continue;
-                if ((p - t * d).squaredNorm() <= 1e-18 * len2) hanging[size_t(v)] = 1;
-              }
-            }
+            for (int64_t z = centre[2] - 1; z <= centre[2] + 1; ++z) test_cell(x, y, z);
       }
     }
     r.hanging_nodes = size_t(std::count(hanging.begin(), hanging.end(), 1));

@@ -69,6 +69,27 @@ TEST(Conformity, CatchesAHangingNode) {
   EXPECT_EQ(r.duplicate_nodes, 0u);
 }
 
+// The same hanging nodes, on edges many grid cells long and slanted: a far-away block of
+// tiny hexes shrinks the search grid's cell (the mean boundary edge), and a rotation puts
+// the edges off the axes, so the search walks the edge instead of scanning its box.
+TEST(Conformity, CatchesAHangingNodeOnALongSlantedEdge) {
+  HexMesh mesh = split_one_hex(fixtures::hex_block(2, 1, 1), 1);
+  const HexMesh tiny = fixtures::hex_block(30, 30, 1);
+  const int offset = int(mesh.nodes.size());
+  for (const Vec3& p : tiny.nodes) mesh.nodes.push_back(0.01 * p + Vec3(10, 10, 10));
+  for (auto hex : tiny.hexes) {
+    for (int& v : hex) v += offset;
+    mesh.hexes.push_back(hex);
+  }
+  const Eigen::Matrix3d rotation =
+      (Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()) * Eigen::AngleAxisd(0.3, Vec3::UnitX())).toRotationMatrix();
+  for (Vec3& p : mesh.nodes) p = rotation * p;
+  const ConformityReport r = check_conformity(mesh);
+  EXPECT_FALSE(r.conforming());
+  EXPECT_EQ(r.hanging_nodes, 4u);
+  EXPECT_EQ(r.non_manifold_boundary_nodes, 4u);
+}
+
 TEST(Conformity, CatchesADuplicatedNode) {
   HexMesh mesh = fixtures::hex_block(2, 1, 1);
   // Hex 1 gets its own copy of node 1 (on the shared face).
