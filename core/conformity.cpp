@@ -109,7 +109,7 @@ std::vector<std::array<int, 4>> boundary_quads(const HexMesh& mesh) {
   return boundary_quads_of(mesh, sorted_face_uses(mesh));
 }
 
-ConformityReport check_conformity(const HexMesh& mesh) {
+ConformityReport check_conformity(const HexMesh& mesh, std::vector<std::array<int, 4>>* boundary) {
   ConformityReport r;
   r.hexes = mesh.hexes.size();
   r.nodes = mesh.nodes.size();
@@ -125,11 +125,27 @@ ConformityReport check_conformity(const HexMesh& mesh) {
     if (count > 2) ++r.overshared_faces;
   });
 
-  std::vector<std::array<int, 8>> sorted_hexes = mesh.hexes;
-  for (auto& h : sorted_hexes) std::sort(h.begin(), h.end());
-  std::sort(sorted_hexes.begin(), sorted_hexes.end());
-  for (size_t i = 1; i < sorted_hexes.size(); ++i)
-    if (sorted_hexes[i] == sorted_hexes[i - 1]) ++r.duplicate_hexes;
+  // Repeated hexes: node sets sorted, bucketed by their smallest node (a counting sort, as
+  // for the faces), and compared within each short bucket.
+  {
+    std::vector<size_t> start(mesh.nodes.size() + 1, 0);
+    std::vector<std::array<int, 8>> node_sets = mesh.hexes;
+    for (auto& h : node_sets) {
+      std::sort(h.begin(), h.end());
+      ++start[size_t(h[0]) + 1];
+    }
+    std::partial_sum(start.begin(), start.end(), start.begin());
+    std::vector<std::array<int, 8>> bucketed(node_sets.size());
+    std::vector<size_t> next(start.begin(), start.end() - 1);
+    for (const auto& h : node_sets) bucketed[next[size_t(h[0])]++] = h;
+    for (size_t b = 0; b + 1 < start.size(); ++b) {
+      const auto first = bucketed.begin() + long(start[b]), last = bucketed.begin() + long(start[b + 1]);
+      if (last - first < 2) continue;
+      std::sort(first, last);
+      for (auto it = first + 1; it < last; ++it)
+        if (*it == *(it - 1)) ++r.duplicate_hexes;
+    }
+  }
 
   std::vector<char> used(mesh.nodes.size(), 0);
   for (const auto& h : mesh.hexes)
@@ -154,6 +170,7 @@ ConformityReport check_conformity(const HexMesh& mesh) {
 
   // The boundary quad surface: edges, orientation, fans around each node.
   const auto quads = boundary_quads_of(mesh, uses);  // the uses sorted above, not a second sort
+  if (boundary) *boundary = quads;
   struct EdgeUse {
     uint64_t key;
     int quad, corner;  // the directed edge runs from corner to corner + 1 of quad

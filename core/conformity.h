@@ -35,8 +35,10 @@ struct ConformityReport {
 //! Checks a hex mesh for the defects listed in ConformityReport. A hanging node (one
 //! side of a face refined, the other not) shows up as non-manifold boundary nodes and
 //! hanging nodes: the refined and unrefined sides each get their own boundary face.
-//! O(n log n); meant for tests and verification, not for inner loops.
-ConformityReport check_conformity(const HexMesh& mesh);
+//! O(n log n); meant for tests and verification, not for inner loops. The boundary quads
+//! it finds on the way are stored in `boundary` when given (as boundary_quads() returns
+//! them), which saves a caller that needs both a second pass over every face.
+ConformityReport check_conformity(const HexMesh& mesh, std::vector<std::array<int, 4>>* boundary = nullptr);
 
 //! The faces used by exactly one hex, as node rings oriented outward (counter-clockwise
 //! seen from outside) for positively oriented hexes, in hex order.

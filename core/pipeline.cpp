@@ -259,8 +259,9 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
 
   timed_stage(result, progress, "measure", [&] {
     result.quality = measure_hex_quality(result.hexes);
-    result.conforming = check_conformity(result.hexes).conforming();
-    const TriSurface boundary = quads_to_triangles(result.hexes.nodes, boundary_quads(result.hexes));
+    std::vector<std::array<int, 4>> quads;
+    result.conforming = check_conformity(result.hexes, &quads).conforming();
+    const TriSurface boundary = quads_to_triangles(result.hexes.nodes, quads);
     result.hex_volume = enclosed_volume(boundary);
     const TriangleBvh boundary_bvh(boundary);
     const SurfaceDistance distance = surface_distance(boundary, boundary_bvh, result.input, input_bvh);

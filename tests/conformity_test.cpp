@@ -35,6 +35,9 @@ TEST(Conformity, BlockIsConformingWithClosedOutwardBoundary) {
   EXPECT_EQ(r.boundary_faces, 2u * 4 + 2u * 2 + 2u * 2);
   const auto quads = boundary_quads(block);
   ASSERT_EQ(quads.size(), r.boundary_faces);
+  std::vector<std::array<int, 4>> found_on_the_way;
+  check_conformity(block, &found_on_the_way);
+  EXPECT_EQ(found_on_the_way, quads);
   // Outward: each quad's normal points away from the block's centre.
   const Vec3 centre(1, 1, 0.5);
   for (const auto& q : quads) {
