@@ -29,6 +29,10 @@ struct UntangleOptions {
   //! re-inverts.
   int smoothing_rounds = 1;
   int smoothing_iterations = 60;
+  //! The shape pass moves only the interior nodes of hexes whose shape is below this, and
+  //! of the hexes within `smoothing_rings` rings of them (1 or more: every interior node).
+  double smoothing_shape_threshold = 1.0;
+  int smoothing_rings = 1;
   //! Where moving interior nodes is not enough, let the boundary nodes of the repair
   //! region slide on the surface (tangent-plane moves, then back onto the surface), in up
   //! to this many passes.
