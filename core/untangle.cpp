@@ -216,7 +216,12 @@ class Untangler {
         if (!is_boundary_[v] || slide) movable.push_back(v);
       for (size_t v : movable)
         if (is_boundary_[v]) ever_sliding[v] = 1;
-      run_phase(movable, options_.max_rounds, options_.max_lbfgs_iterations, report);
+      // Each connected part on its own: a part that is repaired stops, a hard one does not
+      // hold the step length and the rounds of the others.
+      for (const auto& part : connected_parts(movable)) {
+        if (report.time_limit_reached) break;
+        run_phase(part, options_.max_rounds, options_.max_lbfgs_iterations, report);
+      }
       return true;
     };
     auto min_scaled_jacobian = [&] { return *std::min_element(scaled_jacobian_.begin(), scaled_jacobian_.end()); };
@@ -227,16 +232,21 @@ class Untangler {
     for (int phase = 0; phase < options_.max_boundary_phases && options_.slide_boundary && !report.time_limit_reached;
          ++phase)
       if (!repair(kInverted, true)) break;
-    // 2. Shape where it is poor (a barrier once nothing is inverted).
+    // 2. Shape where it is poor (a barrier once nothing is inverted). Each connected part of
+    // the region is its own problem: one near-flat frame then limits the steps of its own
+    // part only, not of the whole mesh, and a part stops when it has converged.
     if (options_.smoothing_iterations > 0 && !report.time_limit_reached) {
       std::vector<size_t> seeds;
+      const bool everywhere = options_.smoothing_shape_threshold >= 1;
       for (size_t h = 0; h < n_hexes; ++h)
-        if (options_.smoothing_shape_threshold >= 1 || hex_shape(hex_corners(mesh_, h)) < options_.smoothing_shape_threshold)
-          seeds.push_back(h);
+        if (everywhere || hex_shape(hex_corners(mesh_, h)) < options_.smoothing_shape_threshold) seeds.push_back(h);
       std::vector<size_t> movable;
-      for (size_t v : grow_region(seeds, options_.smoothing_shape_threshold >= 1 ? 0 : options_.smoothing_rings))
+      for (size_t v : grow_region(seeds, everywhere ? 0 : options_.smoothing_rings))
         if (!is_boundary_[v]) movable.push_back(v);
-      run_phase(movable, options_.smoothing_rounds, options_.smoothing_iterations, report);
+      for (const auto& part : connected_parts(movable)) {
+        if (report.time_limit_reached) break;
+        run_phase(part, options_.smoothing_rounds, options_.smoothing_iterations, report);
+      }
     }
     // 3. What is still below the target, locally, the boundary sliding where it must.
     if (!report.time_limit_reached) repair(options_.target_scaled_jacobian, false);
@@ -297,6 +307,26 @@ class Untangler {
     for (size_t v : nodes) in_region_[v] = 0;
     std::sort(nodes.begin(), nodes.end());
     return nodes;
+  }
+
+  //! `nodes` (sorted) split into sets that share no hex, each sorted.
+  std::vector<std::vector<size_t>> connected_parts(const std::vector<size_t>& nodes) {
+    std::vector<std::vector<size_t>> parts;
+    in_region_.resize(mesh_.nodes.size(), 0);
+    for (size_t v : nodes) in_region_[v] = 1;
+    for (size_t seed : nodes) {
+      if (in_region_[seed] != 1) continue;
+      std::vector<size_t> part = {seed};
+      in_region_[seed] = 2;
+      for (size_t i = 0; i < part.size(); ++i)
+        for (int h : node_hexes_[part[i]])
+          for (int u : mesh_.hexes[size_t(h)])
+            if (in_region_[size_t(u)] == 1) in_region_[size_t(u)] = 2, part.push_back(size_t(u));
+      std::sort(part.begin(), part.end());
+      parts.push_back(std::move(part));
+    }
+    for (size_t v : nodes) in_region_[v] = 0;
+    return parts;
   }
 
   // One epsilon-continuation run over `movable` (sorted node ids): interior nodes free,
