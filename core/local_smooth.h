@@ -15,12 +15,18 @@ struct LocalSmoothOptions {
   //! Nodes of hexes whose scaled Jacobian is below this move; a node stops improving once
   //! every hex around it reaches it.
   double target_scaled_jacobian = 0.3;
-  int max_sweeps = 12;
+  //! Hexes below the target are taken worst first from a queue; each at most this often.
+  int max_attempts_per_hex = 6;
   //! Shape sweeps after the scaled-Jacobian sweeps: nodes of hexes whose shape is below
   //! `shape_threshold` move to raise the mean shape of their hexes, never letting the
   //! smallest scaled Jacobian around them drop below min(its value, target).
   int shape_sweeps = 2;
   double shape_threshold = 0.7;
+  //! A shape-sweep node first tries one cheap guess (the mean of its edge neighbours, then
+  //! half of that step); only if both fail and its worst hex's shape is below
+  //! `compass_below_shape` does it run a compass search of at most this many trials.
+  double compass_below_shape = 0.2;
+  int shape_compass_trials = 40;
   //! Compass-search steps, as fractions of the node's mean incident edge length.
   double initial_step = 0.15;
   double min_step = 2e-3;
@@ -36,7 +42,7 @@ struct LocalSmoothReport {
   double min_scaled_jacobian_before = 0, min_scaled_jacobian_after = 0;
   double avg_shape_before = 0, avg_shape_after = 0;
   size_t moves = 0;
-  int sweeps = 0;
+  int sweeps = 0;  //!< queue entries taken plus shape sweeps
   bool time_limit_reached = false;
 };
 
