@@ -15,11 +15,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Parametric corner of each VTK hex node: bit 0 = xi, bit 1 = eta, bit 2 = zeta.
-constexpr int kCornerBits[8] = {0b000, 0b001, 0b011, 0b010, 0b100, 0b101, 0b111, 0b110};
-
-bool hex_edge(int a, int b) { return __builtin_popcount(unsigned(kCornerBits[a] ^ kCornerBits[b])) == 1; }
-
 struct Incidence {
   int hex = 0;
   int corner = 0;  //!< the node's local index in the hex
@@ -106,8 +101,19 @@ class NodeSmoother {
       ++attempts[size_t(h)];
       if (++popped % 64 == 0 && out_of_time(report)) return;
       ++report.sweeps;
-      for (int v : mesh_.hexes[size_t(h)]) {
-        if (!improve_node(v, false)) continue;
+      // Only the nodes of the frame where the hex is worst can raise it.
+      const auto& hex = mesh_.hexes[size_t(h)];
+      const int frame = hex_worst_scaled_jacobian_frame(hex_corners(mesh_, size_t(h)));
+      std::array<int, 8> nodes = hex;
+      size_t count = 8;
+      if (frame < 8) {
+        const auto local = hex_corner_frame_nodes(frame);
+        for (size_t i = 0; i < 4; ++i) nodes[i] = hex[size_t(local[i])];
+        count = 4;
+      }
+      for (size_t n = 0; n < count; ++n) {
+        const int v = nodes[n];
+        if (!improve_node(v, false, scratch_)) continue;
         ++report.moves;
         for (const Incidence& i : node_hexes_[size_t(v)])
           if (sj_[size_t(i.hex)] < target) queue.push({sj_[size_t(i.hex)], i.hex});
@@ -134,7 +140,7 @@ class NodeSmoother {
       size_t visited = 0;
       for (const auto& [worst, v] : order) {
         if (++visited % 256 == 0 && out_of_time(report)) return;
-        if (!improve_node(v, true)) continue;
+        if (!improve_node(v, true, scratch_)) continue;
         ++report.moves;
         for (const Incidence& i : node_hexes_[size_t(v)])
           if (shape_[size_t(i.hex)] < options_.shape_threshold)
@@ -148,18 +154,26 @@ class NodeSmoother {
     double min_sj = 0, shape_sum = 0, min_shape = 0;
     double clipped_sj_sum = 0;  //!< sum over the hexes of min(scaled Jacobian, target)
   };
-  // The hexes around v with v at x; stops early (invalid) when a hex's scaled Jacobian is
-  // below `floor`, which no accepted position may do.
-  Score score_at(int v, const Vec3& x, bool need_shape, double floor, double* sj = nullptr, double* shape = nullptr) {
+  //! Per-thread work space of improve_node.
+  struct Scratch {
+    std::vector<HexWithMovingCorner> around;  //!< the hexes of the node, when searched incrementally
+    std::vector<double> trial_sj, trial_shape;  //!< per hex, at the last scored position
+    std::vector<double> best_sj, best_shape;    //!< per hex, at the best position so far
+    bool best_has_shape = false;
+  };
+
+  // The hexes around v with v at x, into scratch.trial_*; stops early (invalid) when a
+  // hex's scaled Jacobian is below `floor`, which no accepted position may do.
+  Score score_at(int v, const Vec3& x, bool need_shape, double floor, Scratch& scratch) const {
     Score s;
     s.min_sj = 1;
     s.min_shape = 1;
     const auto& hexes = node_hexes_[size_t(v)];
-    const bool incremental = !around_.empty();
+    const bool incremental = !scratch.around.empty();
     for (size_t k = 0; k < hexes.size(); ++k) {
       HexScaledJacobianAndShape q;
       if (incremental) {
-        q = around_[k].at(x, need_shape);
+        q = scratch.around[k].at(x, need_shape);
       } else {
         auto corners = hex_corners(mesh_, size_t(hexes[k].hex));
         corners[size_t(hexes[k].corner)] = x;
@@ -170,8 +184,8 @@ class NodeSmoother {
       s.clipped_sj_sum += std::min(q.scaled_jacobian, options_.target_scaled_jacobian);
       s.shape_sum += q.shape;
       s.min_shape = std::min(s.min_shape, q.shape);
-      if (sj) sj[k] = q.scaled_jacobian;
-      if (shape) shape[k] = q.shape;
+      scratch.trial_sj[k] = q.scaled_jacobian;
+      scratch.trial_shape[k] = q.shape;
     }
     s.valid = true;
     return s;
@@ -231,25 +245,36 @@ class NodeSmoother {
   }
 
   // The mean of v's edge neighbours (each counted once per hex that holds the edge): the
-  // Laplacian guess, which on a hex mesh evens out edge lengths and angles together.
-  Vec3 edge_neighbour_mean(int v) const {
+  // Laplacian guess, which on a hex mesh evens out edge lengths and angles together. Also
+  // the mean length of those edges, the node's length scale.
+  Vec3 edge_neighbour_mean(int v, double& mean_length) const {
     Vec3 sum = Vec3::Zero();
+    double length = 0;
     int n = 0;
+    const Vec3& x = mesh_.nodes[size_t(v)];
     for (const Incidence& i : node_hexes_[size_t(v)]) {
       const auto& hex = mesh_.hexes[size_t(i.hex)];
-      for (int u = 0; u < 8; ++u)
-        if (hex_edge(u, i.corner)) sum += mesh_.nodes[size_t(hex[size_t(u)])], ++n;
+      const auto frame = hex_corner_frame_nodes(i.corner);  // the corner and its 3 edge neighbours
+      for (int k = 1; k < 4; ++k) {
+        const Vec3& u = mesh_.nodes[size_t(hex[size_t(frame[size_t(k)])])];
+        sum += u;
+        length += (u - x).norm();
+        ++n;
+      }
     }
+    mean_length = length / double(n);
     return sum / double(n);
   }
 
-  bool improve_node(int v, bool shape_pass) {
+  bool improve_node(int v, bool shape_pass, Scratch& scratch) {
     const auto& hexes = node_hexes_[size_t(v)];
     if (hexes.empty()) return false;
     Vec3 x = mesh_.nodes[size_t(v)];
     const bool need_shape = shape_pass;
     // The current values are the cached ones (computed by the same functions).
-    around_.clear();
+    scratch.around.clear();
+    scratch.trial_sj.resize(hexes.size());
+    scratch.trial_shape.resize(hexes.size());
     Score current;
     current.valid = true;
     current.min_sj = current.min_shape = 1;
@@ -263,11 +288,7 @@ class NodeSmoother {
     if (!shape_pass && current.min_sj >= options_.target_scaled_jacobian) return false;
 
     double scale = 0;
-    int edges = 0;
-    for (const Incidence& i : hexes)
-      for (int u : mesh_.hexes[size_t(i.hex)])
-        if (u != v) scale += (mesh_.nodes[size_t(u)] - x).norm(), ++edges;
-    scale = edges ? scale / edges : 1.0;
+    const Vec3 laplacian = edge_neighbour_mean(v, scale);
     if (!(scale > 0)) return false;
 
     // Search directions: the axes, or for a boundary node the tangent plane of the surface.
@@ -281,54 +302,65 @@ class NodeSmoother {
     auto tangential = [&](Vec3 d) { return is_boundary_[size_t(v)] ? Vec3(d - d.dot(normal) * normal) : d; };
 
     bool moved = false;
+    auto accept = [&](const Vec3& y, const Score& s) {
+      x = y;
+      current = s;
+      moved = true;
+      std::swap(scratch.trial_sj, scratch.best_sj);
+      std::swap(scratch.trial_shape, scratch.best_shape);
+      scratch.trial_sj.resize(hexes.size());
+      scratch.trial_shape.resize(hexes.size());
+      scratch.best_has_shape = need_shape;
+    };
     if (shape_pass) {
       // The cheap guess first (and half of it); the compass search only where it fails
       // around a badly shaped hex.
-      const Vec3 d = tangential(edge_neighbour_mean(v) - x);
+      const Vec3 d = tangential(laplacian - x);
       for (double t : {1.0, 0.5}) {
         Vec3 y;
         if (!landing(v, x, t * d, normal, y)) continue;
-        const Score s = score_at(v, y, need_shape, floor_for(current, true));
+        const Score s = score_at(v, y, need_shape, floor_for(current, true), scratch);
         if (better(s, current, true, hexes.size())) {
-          x = y;
-          current = s;
-          moved = true;
+          accept(y, s);
           break;
         }
       }
     }
     if (!moved && (!shape_pass || current.min_shape < options_.compass_below_shape)) {
       // Many trials around one position: evaluate the hexes incrementally.
-      for (const Incidence& i : hexes) around_.emplace_back(hex_corners(mesh_, size_t(i.hex)), i.corner);
-      std::vector<Vec3> directions;
+      for (const Incidence& i : hexes) scratch.around.emplace_back(hex_corners(mesh_, size_t(i.hex)), i.corner);
+      std::array<Vec3, 14> directions;
+      size_t direction_count = 0;
       if (is_boundary_[size_t(v)]) {
         const Vec3 helper = std::abs(normal.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
         const Vec3 t1 = normal.cross(helper).normalized(), t2 = normal.cross(t1);
-        for (double a = 0; a < 2 * M_PI - 1e-9; a += M_PI / 4) directions.push_back(std::cos(a) * t1 + std::sin(a) * t2);
+        for (int k = 0; k < 8; ++k) {
+          const double a = k * M_PI / 4;
+          directions[direction_count++] = std::cos(a) * t1 + std::sin(a) * t2;
+        }
       } else {
         for (int axis = 0; axis < 3; ++axis)
-          for (double sign : {-1.0, 1.0}) directions.push_back(sign * Vec3::Unit(axis));
+          for (double sign : {-1.0, 1.0}) directions[direction_count++] = sign * Vec3::Unit(axis);
         const double r = 1 / std::sqrt(3.0);
         for (double sx : {-r, r})
           for (double sy : {-r, r})
-            for (double sz : {-r, r}) directions.push_back(Vec3(sx, sy, sz));
+            for (double sz : {-r, r}) directions[direction_count++] = Vec3(sx, sy, sz);
       }
       int last_good = -1;
       int trials = 0;
-      const int max_trials = shape_pass ? options_.shape_compass_trials : 80;
+      const int max_trials = shape_pass ? options_.shape_compass_trials : options_.compass_trials;
       for (double step = options_.initial_step * scale; step >= options_.min_step * scale && trials < max_trials;) {
         bool improved = false;
         // Try the direction that worked last time first.
-        for (size_t k = 0; k < directions.size() && !improved; ++k) {
-          const size_t dir = last_good >= 0 ? (size_t(last_good) + k) % directions.size() : k;
+        for (size_t k = 0; k < direction_count && !improved; ++k) {
+          const size_t dir = last_good >= 0 ? (size_t(last_good) + k) % direction_count : k;
           Vec3 y;
           ++trials;
           if (!landing(v, x, step * directions[dir], normal, y)) continue;
-          const Score s = score_at(v, y, need_shape, floor_for(current, shape_pass));
+          const Score s = score_at(v, y, need_shape, floor_for(current, shape_pass), scratch);
           if (better(s, current, shape_pass, hexes.size())) {
-            x = y;
-            current = s;
-            improved = moved = true;
+            accept(y, s);
+            improved = true;
             last_good = int(dir);
           }
         }
@@ -337,21 +369,21 @@ class NodeSmoother {
       }
     }
     if (!moved) return false;
-    double sj[64], shape[64];
-    std::vector<double> sj_big, shape_big;
-    double* sj_out = sj;
-    double* shape_out = shape;
-    if (hexes.size() > 64) {
-      sj_big.resize(hexes.size());
-      shape_big.resize(hexes.size());
-      sj_out = sj_big.data();
-      shape_out = shape_big.data();
+    if (!scratch.best_has_shape) {
+      score_at(v, x, true, -2, scratch);
+      std::swap(scratch.trial_sj, scratch.best_sj);
+      std::swap(scratch.trial_shape, scratch.best_shape);
     }
-    around_.clear();
-    score_at(v, x, true, -2, sj_out, shape_out);
+    return commit_move(v, x, scratch);
+  }
+
+  // Writes the node and its hexes' values (every hex of one node at a time, so nodes that
+  // share no hex can be committed concurrently).
+  bool commit_move(int v, const Vec3& x, const Scratch& scratch) {
+    const auto& hexes = node_hexes_[size_t(v)];
     mesh_.nodes[size_t(v)] = x;
     for (size_t k = 0; k < hexes.size(); ++k)
-      sj_[size_t(hexes[k].hex)] = sj_out[k], shape_[size_t(hexes[k].hex)] = shape_out[k];
+      sj_[size_t(hexes[k].hex)] = scratch.best_sj[k], shape_[size_t(hexes[k].hex)] = scratch.best_shape[k];
     return true;
   }
 
@@ -364,7 +396,7 @@ class NodeSmoother {
   std::vector<Vec3> surface_normals_;
   double min_normal_cos_ = 0;
   Clock::time_point deadline_;
-  std::vector<HexWithMovingCorner> around_;  //!< the hexes of the node being moved
+  Scratch scratch_;  //!< for the serial passes
 };
 
 }  // namespace

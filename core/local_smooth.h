@@ -6,6 +6,7 @@
 // search over a handful of hexes) that can never lower the mesh's minimum.
 #pragma once
 
+#include "core/features.h"
 #include "core/triangle_bvh.h"
 #include "core/types.h"
 
@@ -20,21 +21,25 @@ struct LocalSmoothOptions {
   //! Shape sweeps after the scaled-Jacobian sweeps: nodes of hexes whose shape is below
   //! `shape_threshold` move to raise the mean shape of their hexes, never letting the
   //! smallest scaled Jacobian around them drop below min(its value, target).
-  int shape_sweeps = 2;
+  int shape_sweeps = 3;
   double shape_threshold = 0.7;
   //! A shape-sweep node first tries one cheap guess (the mean of its edge neighbours, then
   //! half of that step); only if both fail and its worst hex's shape is below
   //! `compass_below_shape` does it run a compass search of at most this many trials.
   double compass_below_shape = 0.2;
   int shape_compass_trials = 40;
+  //! Compass-search trials per node in the scaled-Jacobian pass.
+  int compass_trials = 40;
   //! Compass-search steps, as fractions of the node's mean incident edge length.
   double initial_step = 0.15;
   double min_step = 2e-3;
   //! Boundary nodes slide on the surface of the BVH (move in the tangent plane, then back
   //! onto the surface). A slide is refused if the surface normal where the node lands
-  //! turns by more than this angle: feature edges and corners stay put.
+  //! turns by more than this angle: feature edges and corners stay put. The default is the
+  //! feature angle the coarsening uses; a smaller one took the ordinary curvature of a
+  //! coarse organic surface (spot's ears) for features and pinned nodes there.
   bool move_boundary = true;
-  double max_normal_turn_deg = 25.0;
+  double max_normal_turn_deg = kDefaultFeatureAngleDeg;
   double time_limit_seconds = 120.0;
 };
 

@@ -135,6 +135,21 @@ HexScaledJacobianAndShape hex_scaled_jacobian_and_shape(const std::array<Vec3, 8
   return a.result(centre_sj(x), true);
 }
 
+int hex_worst_scaled_jacobian_frame(const std::array<Vec3, 8>& x) {
+  int worst = 8;
+  double value = centre_sj(x);
+  for (int k = 0; k < 8; ++k) {
+    const double q = corner_frame(x, k, false).sj;
+    if (q < value) value = q, worst = k;
+  }
+  return worst;
+}
+
+std::array<int, 4> hex_corner_frame_nodes(int corner) {
+  const auto& k = kHexCorners[corner];
+  return {k[0], k[1], k[2], k[3]};
+}
+
 HexWithMovingCorner::HexWithMovingCorner(const std::array<Vec3, 8>& corners, int moving)
     : corners_(corners), moving_(moving) {
   for (int k = 0; k < 8; ++k) {

@@ -27,6 +27,13 @@ struct HexScaledJacobianAndShape {
 };
 HexScaledJacobianAndShape hex_scaled_jacobian_and_shape(const std::array<Vec3, 8>& corners);
 
+//! Where a hex's scaled Jacobian is taken: the corner (0-7) whose frame is the smallest,
+//! or 8 for the centre frame. Only the nodes of that frame can raise it.
+int hex_worst_scaled_jacobian_frame(const std::array<Vec3, 8>& corners);
+//! The nodes (local indices) of corner frame `corner` (0-7): the corner and its three
+//! edge neighbours.
+std::array<int, 4> hex_corner_frame_nodes(int corner);
+
 //! A hex one of whose corners moves while the other seven stay: the four corner frames
 //! that do not touch the moving corner are evaluated once, so each trial position costs
 //! four frames and the centre instead of nine. at(x) equals
