@@ -76,11 +76,6 @@ class NodeSmoother {
   double avg_shape() const {
     return shape_.empty() ? 0 : std::accumulate(shape_.begin(), shape_.end(), 0.0) / double(shape_.size());
   }
-  double local_min_shape(int v) const {
-    double m = 1;
-    for (const Incidence& i : node_hexes_[size_t(v)]) m = std::min(m, shape_[size_t(i.hex)]);
-    return m;
-  }
 
   // Worst hex first: each hex below the target has the nodes moved that raise the
   // smallest scaled Jacobian around them; the hexes whose value changes go back in the
@@ -121,30 +116,65 @@ class NodeSmoother {
     }
   }
 
-  // Sweeps over the nodes of the hexes below the shape threshold, worst first; a later
-  // sweep only revisits the nodes next to one that moved (the others would find what they
-  // found before).
+  // Colours such that two nodes of one colour never share a hex: their moves are then
+  // independent (each reads only its own hexes' nodes and writes only its own hexes'
+  // values), so a colour can be swept by several threads with the same result as by one.
+  std::vector<std::vector<int>> colour_classes(const std::vector<char>& wanted) const {
+    std::vector<int> colour(mesh_.nodes.size(), -1);
+    std::vector<std::vector<int>> classes;
+    std::vector<int> used_by;  // per colour: the last node that saw it taken by a neighbour
+    for (size_t v = 0; v < wanted.size(); ++v) {
+      if (!wanted[v]) continue;
+      for (const Incidence& i : node_hexes_[v])
+        for (int u : mesh_.hexes[size_t(i.hex)])
+          if (colour[size_t(u)] >= 0) used_by[size_t(colour[size_t(u)])] = int(v);
+      int c = 0;
+      while (c < int(classes.size()) && used_by[size_t(c)] == int(v)) ++c;
+      if (c == int(classes.size())) {
+        classes.emplace_back();
+        used_by.push_back(-1);
+      }
+      colour[v] = c;
+      classes[size_t(c)].push_back(int(v));
+    }
+    return classes;
+  }
+
+  // Sweeps over the nodes of the hexes below the shape threshold, one colour class at a
+  // time (in parallel within a class); a later sweep only revisits the nodes next to one
+  // that moved (the others would find what they found before).
   void improve_shapes(LocalSmoothReport& report) {
     std::vector<char> active(mesh_.nodes.size(), 0);
     for (size_t h = 0; h < shape_.size(); ++h)
       if (shape_[h] < options_.shape_threshold)
         for (int v : mesh_.hexes[h]) active[size_t(v)] = 1;
-    for (int sweep = 0; sweep < options_.shape_sweeps; ++sweep) {
-      std::vector<std::pair<double, int>> order;
+    if (!options_.move_boundary)
       for (size_t v = 0; v < active.size(); ++v)
-        if (active[v] && (options_.move_boundary || !is_boundary_[v])) order.push_back({local_min_shape(int(v)), int(v)});
-      if (order.empty()) break;
-      std::sort(order.begin(), order.end());
+        if (is_boundary_[v]) active[v] = 0;
+    std::vector<char> moved(mesh_.nodes.size(), 0);
+    for (int sweep = 0; sweep < options_.shape_sweeps; ++sweep) {
+      const std::vector<std::vector<int>> classes = colour_classes(active);
+      if (classes.empty()) break;
       std::fill(active.begin(), active.end(), 0);
       ++report.sweeps;
-      size_t visited = 0;
-      for (const auto& [worst, v] : order) {
-        if (++visited % 256 == 0 && out_of_time(report)) return;
-        if (!improve_node(v, true, scratch_)) continue;
-        ++report.moves;
-        for (const Incidence& i : node_hexes_[size_t(v)])
-          if (shape_[size_t(i.hex)] < options_.shape_threshold)
-            for (int u : mesh_.hexes[size_t(i.hex)]) active[size_t(u)] = 1;
+      for (const std::vector<int>& nodes : classes) {
+        if (out_of_time(report)) return;
+        const long count = long(nodes.size());
+#pragma omp parallel if (count > 32)
+        {
+          Scratch scratch;
+#pragma omp for schedule(dynamic, 64)
+          for (long n = 0; n < count; ++n) moved[size_t(nodes[size_t(n)])] = improve_node(nodes[size_t(n)], true, scratch);
+        }
+        for (int v : nodes) {
+          if (!moved[size_t(v)]) continue;
+          moved[size_t(v)] = 0;
+          ++report.moves;
+          for (const Incidence& i : node_hexes_[size_t(v)])
+            if (shape_[size_t(i.hex)] < options_.shape_threshold)
+              for (int u : mesh_.hexes[size_t(i.hex)])
+                if (options_.move_boundary || !is_boundary_[size_t(u)]) active[size_t(u)] = 1;
+        }
       }
     }
   }

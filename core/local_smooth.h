@@ -31,7 +31,7 @@ struct LocalSmoothOptions {
   //! Compass-search trials per node in the scaled-Jacobian pass.
   int compass_trials = 40;
   //! Compass-search steps, as fractions of the node's mean incident edge length.
-  double initial_step = 0.15;
+  double initial_step = 0.3;
   double min_step = 2e-3;
   //! Boundary nodes slide on the surface of the BVH (move in the tangent plane, then back
   //! onto the surface). A slide is refused if the surface normal where the node lands
