@@ -8,11 +8,17 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <queue>
 
 namespace dthex {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+struct Incidence {
+  int hex = 0;
+  int corner = 0;  //!< the node's local index in the hex
+};
 
 class NodeSmoother {
  public:
@@ -21,7 +27,7 @@ class NodeSmoother {
     const size_t n = mesh.nodes.size();
     node_hexes_.resize(n);
     for (size_t h = 0; h < mesh.hexes.size(); ++h)
-      for (int v : mesh.hexes[h]) node_hexes_[size_t(v)].push_back(int(h));
+      for (int i = 0; i < 8; ++i) node_hexes_[size_t(mesh.hexes[h][size_t(i)])].push_back({int(h), i});
     is_boundary_.assign(n, 0);
     for (const auto& q : boundary_quads(mesh))
       for (int v : q) is_boundary_[size_t(v)] = 1;
@@ -30,9 +36,9 @@ class NodeSmoother {
     sj_.resize(mesh.hexes.size());
     shape_.resize(mesh.hexes.size());
     for (size_t h = 0; h < mesh.hexes.size(); ++h) {
-      const auto x = hex_corners(mesh, h);
-      sj_[h] = hex_scaled_jacobian(x);
-      shape_[h] = hex_shape(x);
+      const HexScaledJacobianAndShape q = hex_scaled_jacobian_and_shape(hex_corners(mesh, h));
+      sj_[h] = q.scaled_jacobian;
+      shape_[h] = q.shape;
     }
     surface_normals_.resize(surface.triangles().size());
     for (size_t t = 0; t < surface_normals_.size(); ++t) {
@@ -41,106 +47,184 @@ class NodeSmoother {
       const Vec3 c = (p[size_t(f[1])] - p[size_t(f[0])]).cross(p[size_t(f[2])] - p[size_t(f[0])]);
       surface_normals_[t] = c.norm() > 0 ? Vec3(c.normalized()) : Vec3::Zero();
     }
+    min_normal_cos_ = std::cos(options_.max_normal_turn_deg * M_PI / 180.0);
   }
 
   LocalSmoothReport run() {
-    const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                             std::chrono::duration<double>(options_.time_limit_seconds));
+    deadline_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                   std::chrono::duration<double>(options_.time_limit_seconds));
     LocalSmoothReport report;
     report.min_scaled_jacobian_before = min_sj();
     report.avg_shape_before = avg_shape();
-    const double target = options_.target_scaled_jacobian;
-    size_t last_below = sj_.size() + 1;
-    double last_min = -2;
-    for (int sweep = 0; sweep < options_.max_sweeps + options_.shape_sweeps; ++sweep) {
-      const bool shape_pass = sweep >= options_.max_sweeps;
-      std::vector<char> candidate(mesh_.nodes.size(), 0);
-      for (size_t h = 0; h < mesh_.hexes.size(); ++h)
-        if (shape_pass ? shape_[h] < options_.shape_threshold : sj_[h] < target)
-          for (int v : mesh_.hexes[h]) candidate[size_t(v)] = 1;
-      std::vector<int> order;
-      for (size_t v = 0; v < candidate.size(); ++v)
-        if (candidate[v] && (options_.move_boundary || !is_boundary_[v])) order.push_back(int(v));
-      if (order.empty()) {
-        if (shape_pass) break;
-        sweep = options_.max_sweeps - 1;  // nothing below target: on to the shape sweeps
-        continue;
-      }
-      // Worst first: their moves free their neighbours.
-      std::vector<double> worst(order.size());
-      for (size_t i = 0; i < order.size(); ++i) worst[i] = local_min_sj(order[i]);
-      std::vector<size_t> idx(order.size());
-      std::iota(idx.begin(), idx.end(), size_t(0));
-      std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) { return worst[a] < worst[b]; });
-      size_t moved = 0;
-      for (size_t i : idx) {
-        if (Clock::now() > deadline) {
-          report.time_limit_reached = true;
-          break;
-        }
-        if (improve_node(order[i], shape_pass)) ++moved;
-      }
-      report.moves += moved;
-      ++report.sweeps;
-      if (report.time_limit_reached) break;
-      // A scaled-Jacobian sweep that neither lifted the minimum nor cleared a hex is the last.
-      const size_t below = size_t(std::count_if(sj_.begin(), sj_.end(), [&](double q) { return q < target; }));
-      const double minimum = min_sj();
-      const bool stalled = !shape_pass && below >= last_below && minimum < last_min + 1e-3;
-      last_below = below;
-      last_min = minimum;
-      if (moved == 0 || stalled) {
-        if (shape_pass) break;
-        sweep = options_.max_sweeps - 1;
-      }
-    }
+    raise_worst(report);
+    if (!report.time_limit_reached) improve_shapes(report);
+    // The shape sweeps changed the neighbourhoods of the hexes still below the target:
+    // some of them can now move further.
+    if (!report.time_limit_reached && options_.shape_sweeps > 0) raise_worst(report);
     report.min_scaled_jacobian_after = min_sj();
     report.avg_shape_after = avg_shape();
     return report;
   }
 
  private:
+  bool out_of_time(LocalSmoothReport& report) {
+    if (Clock::now() <= deadline_) return false;
+    report.time_limit_reached = true;
+    return true;
+  }
   double min_sj() const { return sj_.empty() ? 0 : *std::min_element(sj_.begin(), sj_.end()); }
   double avg_shape() const {
     return shape_.empty() ? 0 : std::accumulate(shape_.begin(), shape_.end(), 0.0) / double(shape_.size());
   }
-  double local_min_sj(int v) const {
-    double m = 1;
-    for (int h : node_hexes_[size_t(v)]) m = std::min(m, sj_[size_t(h)]);
-    return m;
+
+  // Worst hex first: each hex below the target has the nodes moved that raise the
+  // smallest scaled Jacobian around them; the hexes whose value changes go back in the
+  // queue. A hex is taken at most `max_attempts_per_hex` times, which bounds the work
+  // where the target cannot be reached.
+  void raise_worst(LocalSmoothReport& report) {
+    const double target = options_.target_scaled_jacobian;
+    using Entry = std::pair<double, int>;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+    for (size_t h = 0; h < sj_.size(); ++h)
+      if (sj_[h] < target) queue.push({sj_[h], int(h)});
+    std::vector<unsigned char> attempts(sj_.size(), 0);
+    size_t popped = 0;
+    while (!queue.empty()) {
+      const auto [value, h] = queue.top();
+      queue.pop();
+      if (value != sj_[size_t(h)] || value >= target || attempts[size_t(h)] >= options_.max_attempts_per_hex) continue;
+      ++attempts[size_t(h)];
+      if (++popped % 64 == 0 && out_of_time(report)) return;
+      ++report.sweeps;
+      // Only the nodes of the frame where the hex is worst can raise it.
+      const auto& hex = mesh_.hexes[size_t(h)];
+      const int frame = hex_worst_scaled_jacobian_frame(hex_corners(mesh_, size_t(h)));
+      std::array<int, 8> nodes = hex;
+      size_t count = 8;
+      if (frame < 8) {
+        const auto local = hex_corner_frame_nodes(frame);
+        for (size_t i = 0; i < 4; ++i) nodes[i] = hex[size_t(local[i])];
+        count = 4;
+      }
+      for (size_t n = 0; n < count; ++n) {
+        const int v = nodes[n];
+        if (!improve_node(v, false, scratch_)) continue;
+        ++report.moves;
+        for (const Incidence& i : node_hexes_[size_t(v)])
+          if (sj_[size_t(i.hex)] < target) queue.push({sj_[size_t(i.hex)], i.hex});
+      }
+    }
+  }
+
+  // Colours such that two nodes of one colour never share a hex: their moves are then
+  // independent (each reads only its own hexes' nodes and writes only its own hexes'
+  // values), so a colour can be swept by several threads with the same result as by one.
+  std::vector<std::vector<int>> colour_classes(const std::vector<char>& wanted) const {
+    std::vector<int> colour(mesh_.nodes.size(), -1);
+    std::vector<std::vector<int>> classes;
+    std::vector<int> used_by;  // per colour: the last node that saw it taken by a neighbour
+    for (size_t v = 0; v < wanted.size(); ++v) {
+      if (!wanted[v]) continue;
+      for (const Incidence& i : node_hexes_[v])
+        for (int u : mesh_.hexes[size_t(i.hex)])
+          if (colour[size_t(u)] >= 0) used_by[size_t(colour[size_t(u)])] = int(v);
+      int c = 0;
+      while (c < int(classes.size()) && used_by[size_t(c)] == int(v)) ++c;
+      if (c == int(classes.size())) {
+        classes.emplace_back();
+        used_by.push_back(-1);
+      }
+      colour[v] = c;
+      classes[size_t(c)].push_back(int(v));
+    }
+    return classes;
+  }
+
+  // Sweeps over the nodes of the hexes below the shape threshold, one colour class at a
+  // time (in parallel within a class); a later sweep only revisits the nodes next to one
+  // that moved (the others would find what they found before).
+  void improve_shapes(LocalSmoothReport& report) {
+    std::vector<char> active(mesh_.nodes.size(), 0);
+    for (size_t h = 0; h < shape_.size(); ++h)
+      if (shape_[h] < options_.shape_threshold)
+        for (int v : mesh_.hexes[h]) active[size_t(v)] = 1;
+    if (!options_.move_boundary)
+      for (size_t v = 0; v < active.size(); ++v)
+        if (is_boundary_[v]) active[v] = 0;
+    std::vector<char> moved(mesh_.nodes.size(), 0);
+    for (int sweep = 0; sweep < options_.shape_sweeps; ++sweep) {
+      const std::vector<std::vector<int>> classes = colour_classes(active);
+      if (classes.empty()) break;
+      std::fill(active.begin(), active.end(), 0);
+      ++report.sweeps;
+      for (const std::vector<int>& nodes : classes) {
+        if (out_of_time(report)) return;
+        const long count = long(nodes.size());
+#pragma omp parallel if (count > 32)
+        {
+          Scratch scratch;
+#pragma omp for schedule(dynamic, 64)
+          for (long n = 0; n < count; ++n) moved[size_t(nodes[size_t(n)])] = improve_node(nodes[size_t(n)], true, scratch);
+        }
+        for (int v : nodes) {
+          if (!moved[size_t(v)]) continue;
+          moved[size_t(v)] = 0;
+          ++report.moves;
+          for (const Incidence& i : node_hexes_[size_t(v)])
+            if (shape_[size_t(i.hex)] < options_.shape_threshold)
+              for (int u : mesh_.hexes[size_t(i.hex)])
+                if (options_.move_boundary || !is_boundary_[size_t(u)]) active[size_t(u)] = 1;
+        }
+      }
+    }
   }
 
   struct Score {
+    bool valid = false;  //!< false: a hex fell below the floor, the position is refused
     double min_sj = 0, shape_sum = 0, min_shape = 0;
     double clipped_sj_sum = 0;  //!< sum over the hexes of min(scaled Jacobian, target)
   };
-  // The hexes around v with v at x.
-  Score score_at(int v, const Vec3& x, std::vector<double>* sj, std::vector<double>* shape) {
-    Vec3& node = mesh_.nodes[size_t(v)];
-    const Vec3 saved = node;
-    node = x;
+  //! Per-thread work space of improve_node.
+  struct Scratch {
+    std::vector<HexWithMovingCorner> around;  //!< the hexes of the node, when searched incrementally
+    std::vector<double> trial_sj, trial_shape;  //!< per hex, at the last scored position
+    std::vector<double> best_sj, best_shape;    //!< per hex, at the best position so far
+    bool best_has_shape = false;
+  };
+
+  // The hexes around v with v at x, into scratch.trial_*; stops early (invalid) when a
+  // hex's scaled Jacobian is below `floor`, which no accepted position may do.
+  Score score_at(int v, const Vec3& x, bool need_shape, double floor, Scratch& scratch) const {
     Score s;
     s.min_sj = 1;
     s.min_shape = 1;
     const auto& hexes = node_hexes_[size_t(v)];
+    const bool incremental = !scratch.around.empty();
     for (size_t k = 0; k < hexes.size(); ++k) {
-      const auto corners = hex_corners(mesh_, size_t(hexes[k]));
-      const double q = hex_scaled_jacobian(corners);
-      const double sh = need_shape_ ? hex_shape(corners) : 0.0;
-      s.min_sj = std::min(s.min_sj, q);
-      s.clipped_sj_sum += std::min(q, options_.target_scaled_jacobian);
-      s.shape_sum += sh;
-      s.min_shape = std::min(s.min_shape, sh);
-      if (sj) (*sj)[k] = q;
-      if (shape) (*shape)[k] = sh;
+      HexScaledJacobianAndShape q;
+      if (incremental) {
+        q = scratch.around[k].at(x, need_shape);
+      } else {
+        auto corners = hex_corners(mesh_, size_t(hexes[k].hex));
+        corners[size_t(hexes[k].corner)] = x;
+        q = need_shape ? hex_scaled_jacobian_and_shape(corners) : HexScaledJacobianAndShape{hex_scaled_jacobian(corners), 0};
+      }
+      if (q.scaled_jacobian < floor) return s;
+      s.min_sj = std::min(s.min_sj, q.scaled_jacobian);
+      s.clipped_sj_sum += std::min(q.scaled_jacobian, options_.target_scaled_jacobian);
+      s.shape_sum += q.shape;
+      s.min_shape = std::min(s.min_shape, q.shape);
+      scratch.trial_sj[k] = q.scaled_jacobian;
+      scratch.trial_shape[k] = q.shape;
     }
-    node = saved;
+    s.valid = true;
     return s;
   }
 
   // Scaled-Jacobian pass: raise the local minimum while it is below the target. Shape pass:
   // raise the shape sum while the local minimum stays at least min(current, target).
-  bool better(const Score& candidate, const Score& current, bool shape_pass) const {
+  bool better(const Score& candidate, const Score& current, bool shape_pass, size_t hexes) const {
+    if (!candidate.valid) return false;
     const double target = options_.target_scaled_jacobian;
     // Raising a hex that is not the worst, without lowering the worst, counts too: it frees
     // the neighbours, where a pure max-min search stalls between two equally bad hexes.
@@ -150,8 +234,12 @@ class NodeSmoother {
                                           candidate.clipped_sj_sum > current.clipped_sj_sum + 1e-9));
     if (candidate.min_sj < std::min(current.min_sj, target)) return false;
     // The worst shape counts as much as the mean: the minimum is what a solver feels.
-    const double n = double(std::max<size_t>(1, node_hexes_count_));
+    const double n = double(std::max<size_t>(1, hexes));
     return candidate.min_shape + candidate.shape_sum / n > current.min_shape + current.shape_sum / n + 1e-9;
+  }
+  // No accepted position may have a hex below this.
+  double floor_for(const Score& current, bool shape_pass) const {
+    return shape_pass ? std::min(current.min_sj, options_.target_scaled_jacobian) : current.min_sj;
   }
 
   // Where a step from x along d lands: x + d for an interior node; for a boundary node the
@@ -166,8 +254,7 @@ class NodeSmoother {
     const TriangleBvh::ClosestPoint cp = surface_.closest_point(moved);
     if (cp.triangle < 0) return false;
     if (std::sqrt(cp.distance_sq) > d.norm()) return false;
-    if (surface_normals_[size_t(cp.triangle)].dot(normal) < std::cos(options_.max_normal_turn_deg * M_PI / 180.0))
-      return false;
+    if (surface_normals_[size_t(cp.triangle)].dot(normal) < min_normal_cos_) return false;
     out = cp.point;
     return true;
   }
@@ -175,12 +262,11 @@ class NodeSmoother {
   // True if a surface triangle within `radius` of x faces more than the allowed turn away
   // from `normal`: x is on a feature edge or corner, which a slide would round off.
   bool on_feature(const Vec3& x, const Vec3& normal, double radius) const {
-    const double min_cos = std::cos(options_.max_normal_turn_deg * M_PI / 180.0);
     const Eigen::AlignedBox3d box(x - Vec3::Constant(radius), x + Vec3::Constant(radius));
     bool feature = false;
     const auto& p = surface_.points();
     surface_.for_each_in_box(box, [&](int t) {
-      if (feature || surface_normals_[size_t(t)].dot(normal) >= min_cos) return;
+      if (feature || surface_normals_[size_t(t)].dot(normal) >= min_normal_cos_) return;
       const auto& f = surface_.triangles()[size_t(t)];
       const Vec3 c = closest_point_on_triangle(x, p[size_t(f[0])], p[size_t(f[1])], p[size_t(f[2])]);
       if ((c - x).squaredNorm() <= radius * radius) feature = true;
@@ -188,82 +274,159 @@ class NodeSmoother {
     return feature;
   }
 
-  bool improve_node(int v, bool shape_pass) {
+  // The mean of v's edge neighbours (each counted once per hex that holds the edge): the
+  // Laplacian guess, which on a hex mesh evens out edge lengths and angles together. Also
+  // the mean length of those edges, the node's length scale.
+  Vec3 edge_neighbour_mean(int v, double& mean_length) const {
+    Vec3 sum = Vec3::Zero();
+    double length = 0;
+    int n = 0;
+    const Vec3& x = mesh_.nodes[size_t(v)];
+    for (const Incidence& i : node_hexes_[size_t(v)]) {
+      const auto& hex = mesh_.hexes[size_t(i.hex)];
+      const auto frame = hex_corner_frame_nodes(i.corner);  // the corner and its 3 edge neighbours
+      for (int k = 1; k < 4; ++k) {
+        const Vec3& u = mesh_.nodes[size_t(hex[size_t(frame[size_t(k)])])];
+        sum += u;
+        length += (u - x).norm();
+        ++n;
+      }
+    }
+    mean_length = length / double(n);
+    return sum / double(n);
+  }
+
+  bool improve_node(int v, bool shape_pass, Scratch& scratch) {
     const auto& hexes = node_hexes_[size_t(v)];
     if (hexes.empty()) return false;
     Vec3 x = mesh_.nodes[size_t(v)];
+    const bool need_shape = shape_pass;
+    // The current values are the cached ones (computed by the same functions).
+    scratch.around.clear();
+    scratch.trial_sj.resize(hexes.size());
+    scratch.trial_shape.resize(hexes.size());
+    Score current;
+    current.valid = true;
+    current.min_sj = current.min_shape = 1;
+    for (const Incidence& i : hexes) {
+      const double q = sj_[size_t(i.hex)], sh = need_shape ? shape_[size_t(i.hex)] : 0.0;
+      current.min_sj = std::min(current.min_sj, q);
+      current.clipped_sj_sum += std::min(q, options_.target_scaled_jacobian);
+      current.shape_sum += sh;
+      current.min_shape = std::min(current.min_shape, sh);
+    }
+    if (!shape_pass && current.min_sj >= options_.target_scaled_jacobian) return false;
+
     double scale = 0;
-    int edges = 0;
-    for (int h : hexes)
-      for (int u : mesh_.hexes[size_t(h)])
-        if (u != v) scale += (mesh_.nodes[size_t(u)] - x).norm(), ++edges;
-    scale = edges ? scale / edges : 1.0;
+    const Vec3 laplacian = edge_neighbour_mean(v, scale);
     if (!(scale > 0)) return false;
 
     // Search directions: the axes, or for a boundary node the tangent plane of the surface.
-    std::vector<Vec3> directions;
     Vec3 normal = Vec3::Zero();
     if (is_boundary_[size_t(v)]) {
       const TriangleBvh::ClosestPoint cp = surface_.closest_point(x);
       if (cp.triangle < 0) return false;
       normal = surface_normals_[size_t(cp.triangle)];
       if (normal.squaredNorm() == 0 || on_feature(x, normal, 1e-6 * scale)) return false;
-      const Vec3 helper = std::abs(normal.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
-      const Vec3 t1 = normal.cross(helper).normalized(), t2 = normal.cross(t1);
-      for (double a = 0; a < 2 * M_PI - 1e-9; a += M_PI / 4) directions.push_back(std::cos(a) * t1 + std::sin(a) * t2);
-    } else {
-      for (int axis = 0; axis < 3; ++axis)
-        for (double sign : {-1.0, 1.0}) directions.push_back(sign * Vec3::Unit(axis));
-      const double r = 1 / std::sqrt(3.0);
-      for (double sx : {-r, r})
-        for (double sy : {-r, r})
-          for (double sz : {-r, r}) directions.push_back(Vec3(sx, sy, sz));
     }
+    auto tangential = [&](Vec3 d) { return is_boundary_[size_t(v)] ? Vec3(d - d.dot(normal) * normal) : d; };
 
-    node_hexes_count_ = hexes.size();
-    need_shape_ = shape_pass;
-    Score current = score_at(v, x, nullptr, nullptr);
-    if (!shape_pass && current.min_sj >= options_.target_scaled_jacobian) return false;
     bool moved = false;
-    int last_good = -1;
-    int trials = 0;
-    for (double step = options_.initial_step * scale; step >= options_.min_step * scale && trials < (shape_pass ? 40 : 80);) {
-      bool improved = false;
-      // Try the direction that worked last time first.
-      for (size_t k = 0; k < directions.size() && !improved; ++k) {
-        const size_t dir = last_good >= 0 ? (size_t(last_good) + k) % directions.size() : k;
+    auto accept = [&](const Vec3& y, const Score& s) {
+      x = y;
+      current = s;
+      moved = true;
+      std::swap(scratch.trial_sj, scratch.best_sj);
+      std::swap(scratch.trial_shape, scratch.best_shape);
+      scratch.trial_sj.resize(hexes.size());
+      scratch.trial_shape.resize(hexes.size());
+      scratch.best_has_shape = need_shape;
+    };
+    if (shape_pass) {
+      // The cheap guess first (and half of it); the compass search only where it fails
+      // around a badly shaped hex.
+      const Vec3 d = tangential(laplacian - x);
+      for (double t : {1.0, 0.5}) {
         Vec3 y;
-        ++trials;
-        if (!landing(v, x, step * directions[dir], normal, y)) continue;
-        const Score s = score_at(v, y, nullptr, nullptr);
-        if (better(s, current, shape_pass)) {
-          x = y;
-          current = s;
-          improved = moved = true;
-          last_good = int(dir);
+        if (!landing(v, x, t * d, normal, y)) continue;
+        const Score s = score_at(v, y, need_shape, floor_for(current, true), scratch);
+        if (better(s, current, true, hexes.size())) {
+          accept(y, s);
+          break;
         }
       }
-      if (!improved) step *= 0.5;
-      if (!shape_pass && current.min_sj >= options_.target_scaled_jacobian) break;
+    }
+    if (!moved && (!shape_pass || current.min_shape < options_.compass_below_shape)) {
+      // Many trials around one position: evaluate the hexes incrementally.
+      for (const Incidence& i : hexes) scratch.around.emplace_back(hex_corners(mesh_, size_t(i.hex)), i.corner);
+      std::array<Vec3, 14> directions;
+      size_t direction_count = 0;
+      if (is_boundary_[size_t(v)]) {
+        const Vec3 helper = std::abs(normal.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+        const Vec3 t1 = normal.cross(helper).normalized(), t2 = normal.cross(t1);
+        for (int k = 0; k < 8; ++k) {
+          const double a = k * M_PI / 4;
+          directions[direction_count++] = std::cos(a) * t1 + std::sin(a) * t2;
+        }
+      } else {
+        for (int axis = 0; axis < 3; ++axis)
+          for (double sign : {-1.0, 1.0}) directions[direction_count++] = sign * Vec3::Unit(axis);
+        const double r = 1 / std::sqrt(3.0);
+        for (double sx : {-r, r})
+          for (double sy : {-r, r})
+            for (double sz : {-r, r}) directions[direction_count++] = Vec3(sx, sy, sz);
+      }
+      int last_good = -1;
+      int trials = 0;
+      const int max_trials = shape_pass ? options_.shape_compass_trials : options_.compass_trials;
+      for (double step = options_.initial_step * scale; step >= options_.min_step * scale && trials < max_trials;) {
+        bool improved = false;
+        // Try the direction that worked last time first.
+        for (size_t k = 0; k < direction_count && !improved; ++k) {
+          const size_t dir = last_good >= 0 ? (size_t(last_good) + k) % direction_count : k;
+          Vec3 y;
+          ++trials;
+          if (!landing(v, x, step * directions[dir], normal, y)) continue;
+          const Score s = score_at(v, y, need_shape, floor_for(current, shape_pass), scratch);
+          if (better(s, current, shape_pass, hexes.size())) {
+            accept(y, s);
+            improved = true;
+            last_good = int(dir);
+          }
+        }
+        if (!improved) step *= 0.5;
+        if (!shape_pass && current.min_sj >= options_.target_scaled_jacobian) break;
+      }
     }
     if (!moved) return false;
-    std::vector<double> sj(hexes.size()), shape(hexes.size());
-    need_shape_ = true;
-    score_at(v, x, &sj, &shape);
+    if (!scratch.best_has_shape) {
+      score_at(v, x, true, -2, scratch);
+      std::swap(scratch.trial_sj, scratch.best_sj);
+      std::swap(scratch.trial_shape, scratch.best_shape);
+    }
+    return commit_move(v, x, scratch);
+  }
+
+  // Writes the node and its hexes' values (every hex of one node at a time, so nodes that
+  // share no hex can be committed concurrently).
+  bool commit_move(int v, const Vec3& x, const Scratch& scratch) {
+    const auto& hexes = node_hexes_[size_t(v)];
     mesh_.nodes[size_t(v)] = x;
-    for (size_t k = 0; k < hexes.size(); ++k) sj_[size_t(hexes[k])] = sj[k], shape_[size_t(hexes[k])] = shape[k];
+    for (size_t k = 0; k < hexes.size(); ++k)
+      sj_[size_t(hexes[k].hex)] = scratch.best_sj[k], shape_[size_t(hexes[k].hex)] = scratch.best_shape[k];
     return true;
   }
 
   HexMesh& mesh_;
   const TriangleBvh& surface_;
   LocalSmoothOptions options_;
-  std::vector<std::vector<int>> node_hexes_;
+  std::vector<std::vector<Incidence>> node_hexes_;
   std::vector<char> is_boundary_;
   std::vector<double> sj_, shape_;
   std::vector<Vec3> surface_normals_;
-  size_t node_hexes_count_ = 1;  //!< hexes around the node being moved
-  bool need_shape_ = true;       //!< scoring computes shapes (shape pass, final update)
+  double min_normal_cos_ = 0;
+  Clock::time_point deadline_;
+  Scratch scratch_;  //!< for the serial passes
 };
 
 }  // namespace

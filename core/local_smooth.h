@@ -6,6 +6,7 @@
 // search over a handful of hexes) that can never lower the mesh's minimum.
 #pragma once
 
+#include "core/features.h"
 #include "core/triangle_bvh.h"
 #include "core/types.h"
 
@@ -15,20 +16,30 @@ struct LocalSmoothOptions {
   //! Nodes of hexes whose scaled Jacobian is below this move; a node stops improving once
   //! every hex around it reaches it.
   double target_scaled_jacobian = 0.3;
-  int max_sweeps = 12;
+  //! Hexes below the target are taken worst first from a queue; each at most this often.
+  int max_attempts_per_hex = 6;
   //! Shape sweeps after the scaled-Jacobian sweeps: nodes of hexes whose shape is below
   //! `shape_threshold` move to raise the mean shape of their hexes, never letting the
   //! smallest scaled Jacobian around them drop below min(its value, target).
-  int shape_sweeps = 2;
+  int shape_sweeps = 3;
   double shape_threshold = 0.7;
+  //! A shape-sweep node first tries one cheap guess (the mean of its edge neighbours, then
+  //! half of that step); only if both fail and its worst hex's shape is below
+  //! `compass_below_shape` does it run a compass search of at most this many trials.
+  double compass_below_shape = 0.2;
+  int shape_compass_trials = 40;
+  //! Compass-search trials per node in the scaled-Jacobian pass.
+  int compass_trials = 40;
   //! Compass-search steps, as fractions of the node's mean incident edge length.
-  double initial_step = 0.15;
+  double initial_step = 0.3;
   double min_step = 2e-3;
   //! Boundary nodes slide on the surface of the BVH (move in the tangent plane, then back
   //! onto the surface). A slide is refused if the surface normal where the node lands
-  //! turns by more than this angle: feature edges and corners stay put.
+  //! turns by more than this angle: feature edges and corners stay put. The default is the
+  //! feature angle the coarsening uses; a smaller one took the ordinary curvature of a
+  //! coarse organic surface (spot's ears) for features and pinned nodes there.
   bool move_boundary = true;
-  double max_normal_turn_deg = 25.0;
+  double max_normal_turn_deg = kDefaultFeatureAngleDeg;
   double time_limit_seconds = 120.0;
 };
 
@@ -36,7 +47,7 @@ struct LocalSmoothReport {
   double min_scaled_jacobian_before = 0, min_scaled_jacobian_after = 0;
   double avg_shape_before = 0, avg_shape_after = 0;
   size_t moves = 0;
-  int sweeps = 0;
+  int sweeps = 0;  //!< queue entries taken plus shape sweeps
   bool time_limit_reached = false;
 };
 

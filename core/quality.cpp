@@ -71,6 +71,109 @@ double hex_scaled_jacobian(const std::array<Vec3, 8>& x) {
   return std::clamp(worst, -1.0, 1.0);
 }
 
+namespace {
+
+// One corner frame (or the centre frame) as hex_scaled_jacobian and hex_shape see it: the
+// same expressions in the same order, so minima over frames equal theirs exactly.
+struct FrameValues {
+  double sj = 0;
+  double t = 0;        //!< alpha / |J|_F^3, the quantity hex_shape minimizes
+  bool inverted = false;  //!< alpha <= DBL_MIN: hex_shape returns 0
+};
+FrameValues frame_values(const Vec3& e1, const Vec3& e2, const Vec3& e3, bool need_shape) {
+  FrameValues f;
+  const double alpha = det3(e1, e2, e3);
+  const double lengths = e1.norm() * e2.norm() * e3.norm();
+  f.sj = lengths <= kVerdictDblMin ? 0.0 : alpha / lengths;
+  f.inverted = alpha <= kVerdictDblMin;
+  if (need_shape && !f.inverted) {
+    const double frob_sq = e1.squaredNorm() + e2.squaredNorm() + e3.squaredNorm();
+    f.t = alpha / (frob_sq * std::sqrt(frob_sq));
+  }
+  return f;
+}
+FrameValues corner_frame(const std::array<Vec3, 8>& x, int corner, bool need_shape) {
+  const auto& k = kHexCorners[corner];
+  return frame_values(x[size_t(k[1])] - x[size_t(k[0])], x[size_t(k[2])] - x[size_t(k[0])],
+                      x[size_t(k[3])] - x[size_t(k[0])], need_shape);
+}
+double centre_sj(const std::array<Vec3, 8>& x) {
+  const Vec3 xi = (x[1] - x[0]) + (x[2] - x[3]) + (x[5] - x[4]) + (x[6] - x[7]);
+  const Vec3 eta = (x[3] - x[0]) + (x[2] - x[1]) + (x[7] - x[4]) + (x[6] - x[5]);
+  const Vec3 zeta = (x[4] - x[0]) + (x[5] - x[1]) + (x[6] - x[2]) + (x[7] - x[3]);
+  return frame_values(xi, eta, zeta, false).sj;
+}
+// Does corner frame `frame` use node `node` (its own corner or one of its three edges)?
+bool frame_uses(int frame, int node) {
+  for (int i = 0; i < 4; ++i)
+    if (kHexCorners[frame][i] == node) return true;
+  return false;
+}
+struct Accumulator {
+  double worst_sj = std::numeric_limits<double>::max();
+  double worst_t = std::numeric_limits<double>::max();
+  bool shape_zero = false;
+  void add(const FrameValues& f, bool need_shape) {
+    worst_sj = std::min(worst_sj, f.sj);
+    if (!need_shape) return;
+    if (f.inverted) shape_zero = true;
+    else worst_t = std::min(worst_t, f.t);
+  }
+  HexScaledJacobianAndShape result(double centre, bool need_shape) const {
+    HexScaledJacobianAndShape q;
+    q.scaled_jacobian = std::clamp(std::min(worst_sj, centre), -1.0, 1.0);
+    if (need_shape) q.shape = shape_zero ? 0.0 : 3.0 * std::cbrt(worst_t * worst_t);
+    return q;
+  }
+};
+
+}  // namespace
+
+HexScaledJacobianAndShape hex_scaled_jacobian_and_shape(const std::array<Vec3, 8>& x) {
+  Accumulator a;
+  for (int k = 0; k < 8; ++k) a.add(corner_frame(x, k, true), true);
+  return a.result(centre_sj(x), true);
+}
+
+int hex_worst_scaled_jacobian_frame(const std::array<Vec3, 8>& x) {
+  int worst = 8;
+  double value = centre_sj(x);
+  for (int k = 0; k < 8; ++k) {
+    const double q = corner_frame(x, k, false).sj;
+    if (q < value) value = q, worst = k;
+  }
+  return worst;
+}
+
+std::array<int, 4> hex_corner_frame_nodes(int corner) {
+  const auto& k = kHexCorners[corner];
+  return {k[0], k[1], k[2], k[3]};
+}
+
+HexWithMovingCorner::HexWithMovingCorner(const std::array<Vec3, 8>& corners, int moving)
+    : corners_(corners), moving_(moving) {
+  for (int k = 0; k < 8; ++k) {
+    if (frame_uses(k, moving)) {
+      moving_frames_[size_t(moving_frame_count_++)] = k;
+      continue;
+    }
+    const FrameValues f = corner_frame(corners_, k, true);
+    fixed_sj_ = std::min(fixed_sj_, f.sj);
+    if (f.inverted) fixed_shape_zero_ = true;
+    else fixed_t_ = std::min(fixed_t_, f.t);
+  }
+}
+
+HexScaledJacobianAndShape HexWithMovingCorner::at(const Vec3& position, bool need_shape) {
+  corners_[size_t(moving_)] = position;
+  Accumulator a;
+  a.worst_sj = fixed_sj_;
+  a.worst_t = fixed_t_;
+  a.shape_zero = fixed_shape_zero_;
+  for (int i = 0; i < moving_frame_count_; ++i) a.add(corner_frame(corners_, moving_frames_[size_t(i)], need_shape), need_shape);
+  return a.result(centre_sj(corners_), need_shape);
+}
+
 std::array<Vec3, 8> hex_corners(const HexMesh& mesh, size_t hex) {
   std::array<Vec3, 8> x;
   for (size_t i = 0; i < 8; ++i) x[i] = mesh.nodes[size_t(mesh.hexes[hex][i])];

@@ -5,6 +5,8 @@
 
 #include "core/types.h"
 
+#include <limits>
+
 namespace dthex {
 
 //! Verdict triangle shape: 4 sqrt(3) area / (sum of squared edge lengths); 1 equilateral.
@@ -17,6 +19,40 @@ double hex_shape(const std::array<Vec3, 8>& corners);
 //! det(A) / (|a1| |a2| |a3|), in [-1, 1]. Verdict returns 1e30 when an edge has zero
 //! length; we return 0 there (the element is degenerate).
 double hex_scaled_jacobian(const std::array<Vec3, 8>& corners);
+
+//! Both of the above from one pass over the nine Jacobians (the smoother's inner loop
+//! needs both for every trial position); bit-identical to calling them separately.
+struct HexScaledJacobianAndShape {
+  double scaled_jacobian = 0, shape = 0;
+};
+HexScaledJacobianAndShape hex_scaled_jacobian_and_shape(const std::array<Vec3, 8>& corners);
+
+//! Where a hex's scaled Jacobian is taken: the corner (0-7) whose frame is the smallest,
+//! or 8 for the centre frame. Only the nodes of that frame can raise it.
+int hex_worst_scaled_jacobian_frame(const std::array<Vec3, 8>& corners);
+//! The nodes (local indices) of corner frame `corner` (0-7): the corner and its three
+//! edge neighbours.
+std::array<int, 4> hex_corner_frame_nodes(int corner);
+
+//! A hex one of whose corners moves while the other seven stay: the four corner frames
+//! that do not touch the moving corner are evaluated once, so each trial position costs
+//! four frames and the centre instead of nine. at(x) equals
+//! hex_scaled_jacobian_and_shape(corners with [moving] = x) exactly (the shape is 0 when
+//! need_shape is false).
+class HexWithMovingCorner {
+ public:
+  HexWithMovingCorner(const std::array<Vec3, 8>& corners, int moving);
+  HexScaledJacobianAndShape at(const Vec3& position, bool need_shape = true);
+
+ private:
+  std::array<Vec3, 8> corners_;
+  int moving_ = 0;
+  std::array<int, 4> moving_frames_{};
+  int moving_frame_count_ = 0;
+  double fixed_sj_ = std::numeric_limits<double>::max();
+  double fixed_t_ = std::numeric_limits<double>::max();
+  bool fixed_shape_zero_ = false;
+};
 
 std::array<Vec3, 8> hex_corners(const HexMesh& mesh, size_t hex);
 

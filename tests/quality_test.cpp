@@ -125,3 +125,57 @@ TEST(Quality, AgreesWithTheReferee) {
   EXPECT_TRUE(conformity.conforming());
   EXPECT_EQ(referee["faces_boundary"].get<size_t>(), conformity.boundary_faces);
 }
+
+// The one-pass pair is what the smoother ranks positions by: it must give exactly what the
+// two referee-checked functions give, on good, distorted, inverted and degenerate hexes.
+TEST(Quality, OnePassPairEqualsSeparateFunctions) {
+  const TriSurface sphere = fixtures::read_off(DTHEX_SOURCE_DIR "/meshes/sphere728.off");
+  HexMesh mesh = dice(thex(tetrahedralize(sphere)), 2);
+  std::vector<std::array<Vec3, 8>> hexes;
+  for (size_t h = 0; h < mesh.hexes.size(); ++h) hexes.push_back(hex_corners(mesh, h));
+  auto folded = unit_cube();
+  folded[6] = Vec3(0.2, 0.2, 0.2);  // some corners inverted, others not
+  hexes.push_back(folded);
+  auto collapsed = unit_cube();
+  collapsed[1] = collapsed[0];
+  hexes.push_back(collapsed);
+  auto mirrored = unit_cube();
+  for (auto& p : mirrored) p.z() = -p.z();
+  hexes.push_back(mirrored);
+  size_t inverted = 0;
+  for (const auto& x : hexes) {
+    const HexScaledJacobianAndShape q = hex_scaled_jacobian_and_shape(x);
+    EXPECT_EQ(q.scaled_jacobian, hex_scaled_jacobian(x));
+    EXPECT_EQ(q.shape, hex_shape(x));
+    inverted += q.scaled_jacobian <= 0;
+  }
+  EXPECT_GE(inverted, 3u);
+}
+
+// The smoother's incremental evaluation of a hex with one moving corner equals the full
+// evaluation for every corner and many positions, valid or not.
+TEST(Quality, MovingCornerEqualsFullEvaluation) {
+  const TriSurface sphere = fixtures::read_off(DTHEX_SOURCE_DIR "/meshes/sphere728.off");
+  const HexMesh mesh = dice(thex(tetrahedralize(sphere)), 2);
+  size_t checked = 0, inverted = 0;
+  for (size_t h = 0; h < mesh.hexes.size(); h += 37) {
+    const auto x = hex_corners(mesh, h);
+    for (int c = 0; c < 8; ++c) {
+      HexWithMovingCorner moving(x, c);
+      for (int trial = 0; trial < 6; ++trial) {
+        auto y = x;
+        // Steps from small to past the opposite corner (which inverts).
+        y[size_t(c)] += 0.4 * trial * (x[size_t(7 - c)] - x[size_t(c)]) + Vec3(0.01 * trial, -0.02, 0.005 * c);
+        const HexScaledJacobianAndShape full = hex_scaled_jacobian_and_shape(y);
+        const HexScaledJacobianAndShape fast = moving.at(y[size_t(c)]);
+        EXPECT_EQ(fast.scaled_jacobian, full.scaled_jacobian);
+        EXPECT_EQ(fast.shape, full.shape);
+        EXPECT_EQ(moving.at(y[size_t(c)], false).scaled_jacobian, hex_scaled_jacobian(y));
+        inverted += full.scaled_jacobian <= 0;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 1000u);
+  EXPECT_GT(inverted, 100u);
+}
