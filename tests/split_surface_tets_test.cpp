@@ -6,6 +6,7 @@
 #include "core/thex.h"
 #include "core/conformity.h"
 #include "core/quality.h"
+#include "core/node_count.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -62,7 +63,7 @@ TEST(SplitSurfaceTets, IcosahedronStaysConformingWithoutFlatCornerTets) {
   const auto faces_before = tets.boundary_faces;
 
   const SplitSurfaceTetsReport report = split_surface_tets(tets);
-  EXPECT_GT(report.split_edges + report.split_tets, 0u);
+  EXPECT_GT(report.split_edges + report.split_tets + report.coned_clusters, 0u);
   EXPECT_EQ(tets.boundary_faces, faces_before);
 
   double volume_after = 0;
@@ -125,4 +126,46 @@ TEST(SplitSurfaceTets, SingleTetSplitsIntoFour) {
   EXPECT_LT((m.points[4] - Vec3(0.25, 0.25, 0.25)).norm(), 1e-15);
   for (const auto& t : m.tets) EXPECT_NEAR(signed_volume(m, t), 1.0 / 24.0, 1e-15);
   expect_conforming(m);
+}
+
+// TetGen meshes the icosahedron with 15 tets and no interior point; its 6 interior edges
+// between boundary vertices all share tets (one cluster), so one point at the centroid
+// replaces them: the paper's 20 tets around the centre (Fig. 19), whose THex diced by 3
+// has the paper's 2473 nodes, not 45 tets from six midpoint splits.
+TEST(SplitSurfaceTets, IcosahedronClusterBecomesTwentyTetsAroundTheCentre) {
+  const TriSurface surface = read_surface(DTHEX_SOURCE_DIR "/meshes/icosahedron.off");
+  TetgenOptions options;
+  options.switches = "pY";
+  TetMesh tets = tetrahedralize(surface, options);
+  ASSERT_EQ(tets.points.size(), 12u);
+  const SplitSurfaceTetsReport report = split_surface_tets(tets);
+  EXPECT_EQ(report.coned_clusters, 1u);
+  EXPECT_EQ(report.split_edges, 0u);
+  EXPECT_EQ(report.split_tets, 0u);
+  ASSERT_EQ(tets.points.size(), 13u);
+  EXPECT_EQ(tets.tets.size(), 20u);
+  Vec3 centre = Vec3::Zero();
+  for (size_t i = 0; i < 12; ++i) centre += tets.points[i] / 12.0;
+  EXPECT_LT((tets.points[12] - centre).norm(), 1e-9);
+  for (const auto& t : tets.tets) {
+    EXPECT_GT(signed_volume(tets, t), 0);
+    EXPECT_NE(std::find(t.begin(), t.end(), 12), t.end());
+  }
+  expect_conforming(tets);
+  EXPECT_EQ(diced_thex_nodes(count_tet_entities(tets), 3), 2473u);
+}
+
+// Without the cone (option off) the same cluster is split edge by edge: more tets.
+TEST(SplitSurfaceTets, WithoutConesTheIcosahedronGetsMidpointSplits) {
+  const TriSurface surface = read_surface(DTHEX_SOURCE_DIR "/meshes/icosahedron.off");
+  TetgenOptions options;
+  options.switches = "pY";
+  TetMesh tets = tetrahedralize(surface, options);
+  SplitSurfaceTetsOptions split;
+  split.cone_edge_clusters = false;
+  const SplitSurfaceTetsReport report = split_surface_tets(tets, split);
+  EXPECT_EQ(report.coned_clusters, 0u);
+  EXPECT_GT(report.split_edges, 0u);
+  EXPECT_GT(tets.tets.size(), 20u);
+  expect_conforming(tets);
 }
