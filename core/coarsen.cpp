@@ -193,15 +193,16 @@ RunOutput run_once(const SurfaceMesh& input_mesh, const TriSurface& input, const
       smooth_options.projection = [&surface](const Point& p, double& s) { return surface.project(p, s); };
       decimater.module(smoothing).set_options(smooth_options);
       // Bounds judged after the smoothing that follows each collapse (see set_placement).
-      decimater.module(length).set_placement(
-          [&surface, smooth_options, size](const SurfaceMesh& m,
-                                           const ModNormalizedLengthT<SurfaceMesh>::CollapseInfo& ci,
-                                           Point& position, double& h) {
-            auto unprojected = smooth_options;
-            unprojected.projection = nullptr;
-            if (!smoothed_collapse_target(m, ci, unprojected, size, position, h)) return false;
-            return surface.project_facing(position, vertex_normal(m, ci.v1), position, h);
-          });
+      if (options.judge_after_smoothing)
+        decimater.module(length).set_placement(
+            [&surface, smooth_options, size](const SurfaceMesh& m,
+                                             const ModNormalizedLengthT<SurfaceMesh>::CollapseInfo& ci,
+                                             Point& position, double& h) {
+              auto unprojected = smooth_options;
+              unprojected.projection = nullptr;
+              if (!smoothed_collapse_target(m, ci, unprojected, size, position, h)) return false;
+              return surface.project_facing(position, vertex_normal(m, ci.v1), position, h);
+            });
     }
     decimater.set_priority_estimate([&mesh, size](const ModNormalizedLengthT<SurfaceMesh>::CollapseInfo& ci) {
       return ModNormalizedLengthT<SurfaceMesh>::priority_estimate(mesh, size, ci);
