@@ -42,8 +42,8 @@ double signed_volume(const TetMesh& m, const std::array<int, 4>& t) {
 // midpoint instead adds a point and ~2k tets per edge (k tets around it). The icosahedron
 // meshed without Steiner points (15 tets, 6 such edges, all one cluster) becomes the
 // paper's 20 tets around the centre instead of 45. A cone is used only when every cone tet
-// is positive and no worse (shape) than the worst tet it replaces. Returns the clusters
-// coned.
+// is positive and no worse (shape) than the worst tet it replaces, and it adds no more tets
+// than the midpoint splits would. Returns the clusters coned.
 size_t cone_edge_clusters(TetMesh& mesh, const std::vector<char>& on_boundary) {
   const auto edges = interior_boundary_edges(mesh, on_boundary);
   if (edges.size() < 2) return 0;
@@ -56,7 +56,7 @@ size_t cone_edge_clusters(TetMesh& mesh, const std::vector<char>& on_boundary) {
   };
   // Tets around each edge: the first one seen, and every other joined to it.
   std::vector<char> in_cluster(mesh.tets.size(), 0);
-  std::vector<int> first_tet(edges.size(), -1);
+  std::vector<int> first_tet(edges.size(), -1), tets_around(edges.size(), 0);
   for (size_t t = 0; t < mesh.tets.size(); ++t) {
     const auto& tet = mesh.tets[t];
     for (int i = 0; i < 4; ++i)
@@ -66,6 +66,7 @@ size_t cone_edge_clusters(TetMesh& mesh, const std::vector<char>& on_boundary) {
         if (it == edges.end() || *it != e) continue;
         in_cluster[t] = 1;
         const size_t k = size_t(it - edges.begin());
+        ++tets_around[k];
         if (first_tet[k] < 0) first_tet[k] = int(t);
         else parent[size_t(find(int(t)))] = find(first_tet[k]);
       }
@@ -74,7 +75,11 @@ size_t cone_edge_clusters(TetMesh& mesh, const std::vector<char>& on_boundary) {
   std::map<int, int> edges_in;
   for (size_t t = 0; t < mesh.tets.size(); ++t)
     if (in_cluster[t]) clusters[find(int(t))].push_back(int(t));
-  for (int t : first_tet) ++edges_in[find(t)];
+  std::map<int, size_t> split_adds;  // tets the midpoint splits would add (at least)
+  for (size_t k = 0; k < edges.size(); ++k) {
+    ++edges_in[find(first_tet[k])];
+    split_adds[find(first_tet[k])] += size_t(tets_around[k]);
+  }
 
   std::vector<char> removed(mesh.tets.size(), 0);
   std::vector<std::array<int, 4>> added;
@@ -123,7 +128,7 @@ size_t cone_edge_clusters(TetMesh& mesh, const std::vector<char>& on_boundary) {
       }
       cone.push_back(sub);
     }
-    if (!ok) {
+    if (!ok || cone.size() > tets.size() + split_adds[root]) {  // invalid, worse, or more tets
       mesh.points.pop_back();
       continue;
     }
