@@ -212,8 +212,12 @@ SplitSurfaceTetsReport split_surface_tets(TetMesh& mesh, const SplitSurfaceTetsO
   };
 
   if (options.split_interior_edges) {
-    if (options.cone_edge_clusters) report.coned_clusters = cone_edge_clusters(mesh, on_boundary);
+    if (options.cone_edge_clusters) {
+      report.coned_clusters = cone_edge_clusters(mesh, on_boundary);
+      on_boundary.resize(mesh.points.size(), 0);  // the cone apexes are interior
+    }
     report.split_edges = split_interior_boundary_edges(mesh, on_boundary);
+    on_boundary.resize(mesh.points.size(), 0);  // so are the edge midpoints
   }
 
   const size_t n_tets = mesh.tets.size();

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <map>
+#include <set>
 
 using namespace dthex;
 
@@ -167,5 +168,50 @@ TEST(SplitSurfaceTets, WithoutConesTheIcosahedronGetsMidpointSplits) {
   EXPECT_EQ(report.coned_clusters, 0u);
   EXPECT_GT(report.split_edges, 0u);
   EXPECT_GT(tets.tets.size(), 20u);
+  expect_conforming(tets);
+}
+
+// A real coarse-enough surface meshed without Steiner points has many interior edges between
+// boundary vertices, some in clusters: after the split none is left, no tet has two
+// boundary faces, the mesh is conforming with the same volume, and each such edge cost at
+// most one new point (a cone apex or a midpoint), never one for an edge that was not there.
+TEST(SplitSurfaceTets, LiverWithoutSteinerPointsLosesEveryInteriorBoundaryEdge) {
+  const TriSurface surface = read_surface(DTHEX_SOURCE_DIR "/meshes/liver.off");
+  TetgenOptions options;
+  options.switches = "pY";
+  TetMesh tets = tetrahedralize(surface, options);
+  std::vector<char> on_boundary(tets.points.size(), 0);
+  std::set<std::pair<int, int>> boundary_edges;
+  for (const auto& f : tets.boundary_faces)
+    for (int i = 0; i < 3; ++i) {
+      on_boundary[size_t(f[size_t(i)])] = 1;
+      boundary_edges.insert(std::minmax(f[size_t(i)], f[size_t((i + 1) % 3)]));
+    }
+  auto bad_edges = [&](const TetMesh& m) {
+    std::set<std::pair<int, int>> bad;
+    for (const auto& t : m.tets)
+      for (int i = 0; i < 4; ++i)
+        for (int j = i + 1; j < 4; ++j) {
+          const std::pair<int, int> e = std::minmax(t[size_t(i)], t[size_t(j)]);
+          if (size_t(e.second) < on_boundary.size() && on_boundary[size_t(e.first)] &&
+              on_boundary[size_t(e.second)] && !boundary_edges.count(e))
+            bad.insert(e);
+        }
+    return bad.size();
+  };
+  const size_t before = bad_edges(tets), points_before = tets.points.size();
+  ASSERT_GT(before, 10u);
+  double volume_before = 0;
+  for (const auto& t : tets.tets) volume_before += signed_volume(tets, t);
+  const SplitSurfaceTetsReport report = split_surface_tets(tets);
+  EXPECT_EQ(bad_edges(tets), 0u);
+  EXPECT_LE(report.split_edges + report.coned_clusters, before);
+  EXPECT_EQ(tets.points.size(), points_before + report.split_edges + report.coned_clusters + report.split_tets);
+  double volume_after = 0;
+  for (const auto& t : tets.tets) {
+    EXPECT_GT(signed_volume(tets, t), 0);
+    volume_after += signed_volume(tets, t);
+  }
+  EXPECT_NEAR(volume_after, volume_before, 1e-9 * volume_before);
   expect_conforming(tets);
 }
