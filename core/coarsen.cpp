@@ -36,6 +36,21 @@ class InputSurface {
     return to_openmesh(cp.point);
   }
 
+  //! As project(), but only onto input triangles facing the same side as normal: the
+  //! closest point across a thin wall (or a cavity close under the surface) is the wrong one.
+  bool project_facing(const Point& p, const Point& normal, Point& out, double& size) const {
+    const Vec3 towards = to_eigen(normal);
+    const auto cp = bvh_.closest_point(to_eigen(p), [&](int triangle) {
+      const auto& t = input_.triangles[size_t(triangle)];
+      const Vec3 a = input_.points[size_t(t[0])];
+      return (input_.points[size_t(t[1])] - a).cross(input_.points[size_t(t[2])] - a).dot(towards) > 0;
+    });
+    if (cp.triangle < 0) return false;
+    if (sizes_) size = interpolate(cp.triangle, cp.point);
+    out = to_openmesh(cp.point);
+    return true;
+  }
+
   double interpolate(int triangle, const Vec3& q) const {
     const auto& t = input_.triangles[size_t(triangle)];
     const Vec3 a = input_.points[size_t(t[0])], b = input_.points[size_t(t[1])], c = input_.points[size_t(t[2])];
@@ -177,6 +192,17 @@ RunOutput run_once(const SurfaceMesh& input_mesh, const TriSurface& input, const
       smooth_options.max_normalized_length = options.max_normalized_length;
       smooth_options.projection = [&surface](const Point& p, double& s) { return surface.project(p, s); };
       decimater.module(smoothing).set_options(smooth_options);
+      // Bounds judged after the smoothing that follows each collapse (see set_placement).
+      if (options.judge_after_smoothing)
+        decimater.module(length).set_placement(
+            [&surface, smooth_options, size](const SurfaceMesh& m,
+                                             const ModNormalizedLengthT<SurfaceMesh>::CollapseInfo& ci,
+                                             Point& position, double& h) {
+              auto unprojected = smooth_options;
+              unprojected.projection = nullptr;
+              if (!smoothed_collapse_target(m, ci, unprojected, size, position, h)) return false;
+              return surface.project_facing(position, vertex_normal(m, ci.v1), position, h);
+            });
     }
     decimater.set_priority_estimate([&mesh, size](const ModNormalizedLengthT<SurfaceMesh>::CollapseInfo& ci) {
       return ModNormalizedLengthT<SurfaceMesh>::priority_estimate(mesh, size, ci);

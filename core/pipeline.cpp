@@ -80,6 +80,7 @@ CoarsenOptions coarsen_options_for(const PipelineOptions& options, double eps) {
   c.h_max = options.h_max;
   c.max_normalized_length = options.max_edge_ratio;
   c.global_smoothing = options.global_smoothing;
+  c.judge_after_smoothing = options.judge_after_smoothing;
   return c;
 }
 

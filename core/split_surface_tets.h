@@ -17,6 +17,10 @@ struct SplitSurfaceTetsOptions {
   //! with the face between them inside: its THex hex there gets two faces along the surface
   //! at a narrow angle. The split runs through every tet on the edge, so it stays conforming.
   bool split_interior_edges = true;
+  //! Before those splits, re-mesh each cluster of tets around two or more such edges as one
+  //! cone from its centroid (one new point instead of one per edge) when that is valid and
+  //! no worse in tet shape.
+  bool cone_edge_clusters = true;
   //! Split tets with at least this many faces on the boundary.
   int min_boundary_faces = 2;
   //! Also split tets whose four vertices all lie on the boundary (edges through the
@@ -27,6 +31,7 @@ struct SplitSurfaceTetsOptions {
 struct SplitSurfaceTetsReport {
   size_t split_tets = 0;   //!< 1-to-4 centroid splits
   size_t split_edges = 0;  //!< interior edges split at their midpoint
+  size_t coned_clusters = 0;  //!< clusters of such edges re-meshed as a cone from one point
 };
 
 //! Splits the selected tets 1-to-4 at their centroid, in place. Faces of the tet mesh are

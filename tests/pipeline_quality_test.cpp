@@ -51,3 +51,22 @@ void expect_done_when(const std::string& mesh, double eps, int dice) {
 }  // namespace
 
 TEST(PipelineQuality, LiverMeetsDoneWhen) { expect_done_when("liver.off", 0.2, 2); }
+
+TEST(PipelineQuality, PapersSphereDicedByThreeIsSmallAndWellShaped) {
+  // Issue 5: sphere728, eps 0.1, dice 3: at most 3000 nodes, avg shape >= 0.85, min shape
+  // >= 0.6, no inverted hex (paper: 2473 nodes, avg 0.8298, min 0.5332), reached with the
+  // collapse bounds judged after smoothing (14 coarse vertices; 20 without: 4441 nodes).
+  // The coarse sphere must be meshed around one centre point: one tet per coarse triangle.
+  Progress quiet;
+  PipelineOptions options;
+  options.dice = 3;
+  options.judge_after_smoothing = true;
+  const PipelineResult r = run_pipeline(DTHEX_SOURCE_DIR "/meshes/sphere728.off", options, quiet);
+  EXPECT_EQ(r.tets, r.coarse.triangles.size());
+  EXPECT_EQ(r.hexes.hexes.size(), 4u * 27u * r.tets);
+  EXPECT_LE(r.hexes.nodes.size(), 3000u);
+  EXPECT_EQ(r.quality.inverted, 0u);
+  EXPECT_GE(r.quality.shape_stats.avg, 0.85);
+  EXPECT_GE(r.quality.shape_stats.min, 0.6);
+  EXPECT_TRUE(r.conforming);
+}

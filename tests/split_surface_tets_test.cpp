@@ -6,12 +6,14 @@
 #include "core/thex.h"
 #include "core/conformity.h"
 #include "core/quality.h"
+#include "core/node_count.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <map>
+#include <set>
 
 using namespace dthex;
 
@@ -62,7 +64,7 @@ TEST(SplitSurfaceTets, IcosahedronStaysConformingWithoutFlatCornerTets) {
   const auto faces_before = tets.boundary_faces;
 
   const SplitSurfaceTetsReport report = split_surface_tets(tets);
-  EXPECT_GT(report.split_edges + report.split_tets, 0u);
+  EXPECT_GT(report.split_edges + report.split_tets + report.coned_clusters, 0u);
   EXPECT_EQ(tets.boundary_faces, faces_before);
 
   double volume_after = 0;
@@ -125,4 +127,91 @@ TEST(SplitSurfaceTets, SingleTetSplitsIntoFour) {
   EXPECT_LT((m.points[4] - Vec3(0.25, 0.25, 0.25)).norm(), 1e-15);
   for (const auto& t : m.tets) EXPECT_NEAR(signed_volume(m, t), 1.0 / 24.0, 1e-15);
   expect_conforming(m);
+}
+
+// TetGen meshes the icosahedron with 15 tets and no interior point; its 6 interior edges
+// between boundary vertices all share tets (one cluster), so one point at the centroid
+// replaces them: the paper's 20 tets around the centre (Fig. 19), whose THex diced by 3
+// has the paper's 2473 nodes, not 45 tets from six midpoint splits.
+TEST(SplitSurfaceTets, IcosahedronClusterBecomesTwentyTetsAroundTheCentre) {
+  const TriSurface surface = read_surface(DTHEX_SOURCE_DIR "/meshes/icosahedron.off");
+  TetgenOptions options;
+  options.switches = "pY";
+  TetMesh tets = tetrahedralize(surface, options);
+  ASSERT_EQ(tets.points.size(), 12u);
+  const SplitSurfaceTetsReport report = split_surface_tets(tets);
+  EXPECT_EQ(report.coned_clusters, 1u);
+  EXPECT_EQ(report.split_edges, 0u);
+  EXPECT_EQ(report.split_tets, 0u);
+  ASSERT_EQ(tets.points.size(), 13u);
+  EXPECT_EQ(tets.tets.size(), 20u);
+  Vec3 centre = Vec3::Zero();
+  for (size_t i = 0; i < 12; ++i) centre += tets.points[i] / 12.0;
+  EXPECT_LT((tets.points[12] - centre).norm(), 1e-9);
+  for (const auto& t : tets.tets) {
+    EXPECT_GT(signed_volume(tets, t), 0);
+    EXPECT_NE(std::find(t.begin(), t.end(), 12), t.end());
+  }
+  expect_conforming(tets);
+  EXPECT_EQ(diced_thex_nodes(count_tet_entities(tets), 3), 2473u);
+}
+
+// Without the cone (option off) the same cluster is split edge by edge: more tets.
+TEST(SplitSurfaceTets, WithoutConesTheIcosahedronGetsMidpointSplits) {
+  const TriSurface surface = read_surface(DTHEX_SOURCE_DIR "/meshes/icosahedron.off");
+  TetgenOptions options;
+  options.switches = "pY";
+  TetMesh tets = tetrahedralize(surface, options);
+  SplitSurfaceTetsOptions split;
+  split.cone_edge_clusters = false;
+  const SplitSurfaceTetsReport report = split_surface_tets(tets, split);
+  EXPECT_EQ(report.coned_clusters, 0u);
+  EXPECT_GT(report.split_edges, 0u);
+  EXPECT_GT(tets.tets.size(), 20u);
+  expect_conforming(tets);
+}
+
+// A real coarse-enough surface meshed without Steiner points has many interior edges between
+// boundary vertices, some in clusters: after the split none is left, no tet has two
+// boundary faces, the mesh is conforming with the same volume, and each such edge cost at
+// most one new point (a cone apex or a midpoint), never one for an edge that was not there.
+TEST(SplitSurfaceTets, LiverWithoutSteinerPointsLosesEveryInteriorBoundaryEdge) {
+  const TriSurface surface = read_surface(DTHEX_SOURCE_DIR "/meshes/liver.off");
+  TetgenOptions options;
+  options.switches = "pY";
+  TetMesh tets = tetrahedralize(surface, options);
+  std::vector<char> on_boundary(tets.points.size(), 0);
+  std::set<std::pair<int, int>> boundary_edges;
+  for (const auto& f : tets.boundary_faces)
+    for (int i = 0; i < 3; ++i) {
+      on_boundary[size_t(f[size_t(i)])] = 1;
+      boundary_edges.insert(std::minmax(f[size_t(i)], f[size_t((i + 1) % 3)]));
+    }
+  auto bad_edges = [&](const TetMesh& m) {
+    std::set<std::pair<int, int>> bad;
+    for (const auto& t : m.tets)
+      for (int i = 0; i < 4; ++i)
+        for (int j = i + 1; j < 4; ++j) {
+          const std::pair<int, int> e = std::minmax(t[size_t(i)], t[size_t(j)]);
+          if (size_t(e.second) < on_boundary.size() && on_boundary[size_t(e.first)] &&
+              on_boundary[size_t(e.second)] && !boundary_edges.count(e))
+            bad.insert(e);
+        }
+    return bad.size();
+  };
+  const size_t before = bad_edges(tets), points_before = tets.points.size();
+  ASSERT_GT(before, 10u);
+  double volume_before = 0;
+  for (const auto& t : tets.tets) volume_before += signed_volume(tets, t);
+  const SplitSurfaceTetsReport report = split_surface_tets(tets);
+  EXPECT_EQ(bad_edges(tets), 0u);
+  EXPECT_LE(report.split_edges + report.coned_clusters, before);
+  EXPECT_EQ(tets.points.size(), points_before + report.split_edges + report.coned_clusters + report.split_tets);
+  double volume_after = 0;
+  for (const auto& t : tets.tets) {
+    EXPECT_GT(signed_volume(tets, t), 0);
+    volume_after += signed_volume(tets, t);
+  }
+  EXPECT_NEAR(volume_after, volume_before, 1e-9 * volume_before);
+  expect_conforming(tets);
 }
