@@ -206,7 +206,7 @@ class Untangler {
     std::vector<char> ever_sliding(n_nodes, 0);
     // Local repair: nodes within a few hex rings of every hex below the target move; with
     // `slide` the boundary nodes among them slide on the surface too. True if it ran.
-    auto repair = [&](double threshold, bool slide) {
+    auto repair = [&](double threshold, bool slide, int rounds) {
       std::vector<size_t> seeds;
       for (size_t h = 0; h < n_hexes; ++h)
         if (scaled_jacobian_[h] < threshold) seeds.push_back(h);
@@ -218,9 +218,9 @@ class Untangler {
         if (is_boundary_[v]) ever_sliding[v] = 1;
       // Each connected part on its own: a part that is repaired stops, a hard one does not
       // hold the step length and the rounds of the others.
-      for (const auto& part : connected_parts(movable)) {
+      for (const auto& part : connected_parts(movable, movable.size())) {
         if (report.time_limit_reached) break;
-        run_phase(part, options_.max_rounds, options_.max_lbfgs_iterations, report);
+        run_phase(part, rounds, options_.max_lbfgs_iterations, report);
       }
       return true;
     };
@@ -228,10 +228,11 @@ class Untangler {
 
     constexpr double kInverted = 1e-6;  // with a margin: Verdict calls a hex inverted at SJ <= 0
     // 1. Inverted hexes first, interior nodes only, then with the boundary sliding.
-    repair(kInverted, false);
+    const int fixed_rounds = options_.slide_boundary ? options_.fixed_boundary_rounds : options_.max_rounds;
+    repair(kInverted, false, fixed_rounds);
     for (int phase = 0; phase < options_.max_boundary_phases && options_.slide_boundary && !report.time_limit_reached;
          ++phase)
-      if (!repair(kInverted, true)) break;
+      if (!repair(kInverted, true, options_.max_rounds)) break;
     // 2. Shape where it is poor (a barrier once nothing is inverted). Each connected part of
     // the region is its own problem: one near-flat frame then limits the steps of its own
     // part only, not of the whole mesh, and a part stops when it has converged.
@@ -243,17 +244,17 @@ class Untangler {
       std::vector<size_t> movable;
       for (size_t v : grow_region(seeds, everywhere ? 0 : options_.smoothing_rings))
         if (!is_boundary_[v]) movable.push_back(v);
-      for (const auto& part : connected_parts(movable)) {
+      for (const auto& part : connected_parts(movable, size_t(options_.smoothing_part_nodes))) {
         if (report.time_limit_reached) break;
         run_phase(part, options_.smoothing_rounds, options_.smoothing_iterations, report);
       }
     }
     // 3. What is still below the target, locally, the boundary sliding where it must.
-    if (!report.time_limit_reached) repair(options_.target_scaled_jacobian, false);
+    if (!report.time_limit_reached) repair(options_.target_scaled_jacobian, false, fixed_rounds);
     for (int phase = 0; phase < options_.max_boundary_phases && options_.slide_boundary && !report.time_limit_reached;
          ++phase) {
       const double before = min_scaled_jacobian();
-      if (!repair(options_.target_scaled_jacobian, true)) break;
+      if (!repair(options_.target_scaled_jacobian, true, options_.max_rounds)) break;
       if (min_scaled_jacobian() <= before + 1e-3) break;  // no progress
     }
     report.sliding_boundary_nodes = size_t(std::count(ever_sliding.begin(), ever_sliding.end(), 1));
@@ -309,8 +310,10 @@ class Untangler {
     return nodes;
   }
 
-  //! `nodes` (sorted) split into sets that share no hex, each sorted.
-  std::vector<std::vector<size_t>> connected_parts(const std::vector<size_t>& nodes) {
+  //! `nodes` (sorted) split into sets that share no hex, each sorted; a connected set of
+  //! more than `max_nodes` is cut into pieces of that many grown breadth-first, solved one
+  //! after the other (each sees where the previous ones moved their nodes).
+  std::vector<std::vector<size_t>> connected_parts(const std::vector<size_t>& nodes, size_t max_nodes) {
     std::vector<std::vector<size_t>> parts;
     in_region_.resize(mesh_.nodes.size(), 0);
     for (size_t v : nodes) in_region_[v] = 1;
@@ -321,7 +324,7 @@ class Untangler {
       for (size_t i = 0; i < part.size(); ++i)
         for (int h : node_hexes_[part[i]])
           for (int u : mesh_.hexes[size_t(h)])
-            if (in_region_[size_t(u)] == 1) in_region_[size_t(u)] = 2, part.push_back(size_t(u));
+            if (in_region_[size_t(u)] == 1 && part.size() < max_nodes) in_region_[size_t(u)] = 2, part.push_back(size_t(u));
       std::sort(part.begin(), part.end());
       parts.push_back(std::move(part));
     }

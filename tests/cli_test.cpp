@@ -128,6 +128,21 @@ TEST(Cli, MeshesTheIcosahedronAndTheReportAgreesWithTheReferee) {
   EXPECT_NEAR(h["scaled_jacobian"]["min"].get<double>(), j["hex"]["scaled_jacobian"]["min"].get<double>(), 1e-9);
 }
 
+TEST(Cli, JudgeAfterSmoothingMeetsThePapersSphereTarget) {
+  // Issue 5's sphere: eps 0.1, dice 3, at most 3000 nodes (20 coarse vertices and 4441
+  // nodes without the flag).
+  const fs::path dir = scratch("judge");
+  const fs::path out = dir / "s.vtu", report = dir / "s.json";
+  const CommandResult r = om_dthex(mesh("sphere728.off") + " -q --dice 3 --judge-after-smoothing -o " + out.string() +
+                                       " --report " + report.string(),
+                                   dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(report));
+  EXPECT_LE(j["coarse"]["vertices"].get<size_t>(), 14u);
+  EXPECT_LE(j["hex"]["nodes"].get<size_t>(), 3000u);
+  EXPECT_EQ(j["hex"]["inverted"], 0);
+}
+
 TEST(Cli, WritesTheCoarseSurfaceAndItVerifies) {
   const fs::path dir = scratch("coarse");
   const fs::path coarse = dir / "coarse.off";
