@@ -133,11 +133,11 @@ TEST(Cli, JudgeAfterSmoothingMeetsThePapersSphereTarget) {
   // nodes without the flag).
   const fs::path dir = scratch("judge");
   const fs::path out = dir / "s.vtu", report = dir / "s.json";
-  const CommandResult r = om_dthex(mesh("sphere728.off") + " -q --dice 3 --judge-after-smoothing -o " + out.string() +
+  const CommandRun r = om_dthex(mesh("sphere728.off") + " -q --dice 3 --judge-after-smoothing -o " + out.string() +
                                        " --report " + report.string(),
                                    dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const nlohmann::json j = nlohmann::json::parse(slurp(report));
+  const nlohmann::json j = nlohmann::json::parse(read_bytes(report));
   EXPECT_LE(j["coarse"]["vertices"].get<size_t>(), 14u);
   EXPECT_LE(j["hex"]["nodes"].get<size_t>(), 3000u);
   EXPECT_EQ(j["hex"]["inverted"], 0);
