@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// The "done when" criteria of the projection issue, asserted through the pipeline API on a
-// bundled biological mesh: no inverted hex, min scaled Jacobian >= 0.2, conforming with a
+// The "done when" criteria of the projection issue, asserted through the pipeline API on
+// three bundled biological meshes (an organ, the heart, the CT femur; eps 0.2 keeps them to
+// seconds each): no inverted hex, min scaled Jacobian >= 0.2, conforming with a
 // closed boundary, Hausdorff <= 1% of the bounding-box diagonal, volume within 2%, average
 // shape at least 0.1 above classic THex of the same input, with fewer nodes.
 #include "core/pipeline.h"
@@ -70,3 +71,5 @@ TEST(PipelineQuality, PapersSphereDicedByThreeIsSmallAndWellShaped) {
   EXPECT_GE(r.quality.shape_stats.min, 0.6);
   EXPECT_TRUE(r.conforming);
 }
+TEST(PipelineQuality, HeartMeetsDoneWhen) { expect_done_when("heart.off", 0.2, 2); }
+TEST(PipelineQuality, FemurMeetsDoneWhen) { expect_done_when("femur_proximal_ct.off", 0.2, 2); }
