@@ -71,5 +71,6 @@ TEST(PipelineQuality, PapersSphereDicedByThreeIsSmallAndWellShaped) {
   EXPECT_GE(r.quality.shape_stats.min, 0.6);
   EXPECT_TRUE(r.conforming);
 }
+
 TEST(PipelineQuality, HeartMeetsDoneWhen) { expect_done_when("heart.off", 0.2, 2); }
 TEST(PipelineQuality, FemurMeetsDoneWhen) { expect_done_when("femur_proximal_ct.off", 0.2, 2); }
