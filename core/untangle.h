@@ -47,10 +47,6 @@ struct UntangleOptions {
   //! sixth off the spot's untangling) but leave more to the sliding repair, which cost
   //! the spot's final minimum scaled Jacobian (0.119 instead of 0.191).
   int fixed_boundary_rounds = 20;
-  //! End an untangling continuation as soon as nothing in its region is inverted: going on
-  //! to convergence there is shape work, which the global pass and the local smoother do
-  //! far cheaper (this made liver-size meshes minutes faster).
-  bool stop_when_untangled = true;
   //! The run stops (and reports what it reached) after this much wall time.
   double time_limit_seconds = 120.0;
   //! Length of worst_hexes in the report.
