@@ -222,14 +222,25 @@ TEST(Coarsen, JudgedAfterSmoothingBundledMeshesStayValidAndGetCoarser) {
   }
 }
 
-TEST(Coarsen, JudgedAfterSmoothingThinShellStaysOnItsOwnSide) {
-  // The placed vertex is pulled back only onto input triangles facing its way: the outer
-  // sphere's vertices never land on the cavity 0.03 below (which would fold the shell).
+namespace {
+
+//! The bundled sphere (r = 1) with an inward copy at r = 0.97 as a cavity: a wall far thinner
+//! than the coarse edges, which tempts a vertex across it.
+TriSurface thin_spherical_shell() {
   const TriSurface sphere = load("sphere728.off");
   TriSurface shell = sphere;
   const int n = int(sphere.points.size());
   for (const Vec3& p : sphere.points) shell.points.push_back(0.97 * p);
   for (const auto& t : sphere.triangles) shell.triangles.push_back({t[0] + n, t[2] + n, t[1] + n});
+  return shell;
+}
+
+}  // namespace
+
+TEST(Coarsen, JudgedAfterSmoothingThinShellStaysOnItsOwnSide) {
+  // The placed vertex is pulled back only onto input triangles facing its way: the outer
+  // sphere's vertices never land on the cavity 0.03 below (which would fold the shell).
+  const TriSurface shell = thin_spherical_shell();
   CoarsenOptions options;
   options.judge_after_smoothing = true;
   const CoarsenResult r = coarsen(shell, options);
@@ -322,11 +333,7 @@ TEST(Coarsen, CtFemurStaysValid) {
 TEST(Coarsen, ThinShellNeedsAndGetsTheSelfIntersectionRepair) {
   // A spherical shell: outer sphere r = 1 and a cavity r = 0.97 (inward). At eps 0.1 a
   // coarse chord of the outer sphere dips ~0.1 inward and would cut the inner sphere.
-  const TriSurface sphere = load("sphere728.off");
-  TriSurface shell = sphere;
-  const int n = int(sphere.points.size());
-  for (const Vec3& p : sphere.points) shell.points.push_back(0.97 * p);
-  for (const auto& t : sphere.triangles) shell.triangles.push_back({t[0] + n, t[2] + n, t[1] + n});
+  const TriSurface shell = thin_spherical_shell();
   const CoarsenResult r = coarsen(shell);
   EXPECT_GE(r.repair_rounds, 1);
   EXPECT_TRUE(self_intersections(r.surface).empty());
