@@ -235,6 +235,18 @@ TriSurface thin_spherical_shell() {
   return shell;
 }
 
+//! The coarse shell is still a valid two-sheet surface (no self-intersection, the cavity
+//! kept) and coarser than the input.
+void expect_valid_coarser_shell(const TriSurface& coarse, const TriSurface& shell) {
+  EXPECT_TRUE(self_intersections(coarse).empty());
+  TriSurface verified = coarse;
+  SurfaceStats stats;
+  ASSERT_NO_THROW(stats = verify_surface(verified, "coarse shell"));
+  EXPECT_EQ(stats.components, 2u);
+  EXPECT_EQ(stats.cavities, 1u);
+  EXPECT_LT(coarse.points.size(), shell.points.size());
+}
+
 }  // namespace
 
 TEST(Coarsen, JudgedAfterSmoothingThinShellStaysOnItsOwnSide) {
@@ -244,13 +256,7 @@ TEST(Coarsen, JudgedAfterSmoothingThinShellStaysOnItsOwnSide) {
   CoarsenOptions options;
   options.judge_after_smoothing = true;
   const CoarsenResult r = coarsen(shell, options);
-  EXPECT_TRUE(self_intersections(r.surface).empty());
-  TriSurface verified = r.surface;
-  SurfaceStats stats;
-  ASSERT_NO_THROW(stats = verify_surface(verified, "coarse shell"));
-  EXPECT_EQ(stats.components, 2u);
-  EXPECT_EQ(stats.cavities, 1u);
-  EXPECT_LT(r.surface.points.size(), shell.points.size());
+  expect_valid_coarser_shell(r.surface, shell);
 }
 
 TEST(Coarsen, BundledMeshesStayValidWithoutCallbacksAndWithGlobalSmoothing) {
@@ -336,11 +342,5 @@ TEST(Coarsen, ThinShellNeedsAndGetsTheSelfIntersectionRepair) {
   const TriSurface shell = thin_spherical_shell();
   const CoarsenResult r = coarsen(shell);
   EXPECT_GE(r.repair_rounds, 1);
-  EXPECT_TRUE(self_intersections(r.surface).empty());
-  TriSurface verified = r.surface;
-  SurfaceStats stats;
-  ASSERT_NO_THROW(stats = verify_surface(verified, "coarse shell"));
-  EXPECT_EQ(stats.components, 2u);
-  EXPECT_EQ(stats.cavities, 1u);
-  EXPECT_LT(r.surface.points.size(), shell.points.size());
+  expect_valid_coarser_shell(r.surface, shell);
 }
