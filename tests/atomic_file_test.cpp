@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "core/atomic_file.h"
 #include "core/types.h"
+#include "scratch_dir.h"
 
 #include <gtest/gtest.h>
 
@@ -11,10 +12,7 @@ namespace fs = std::filesystem;
 
 namespace {
 fs::path fresh_folder(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() / ("dthex_atomic_" + name + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return dthex_test::fresh_dir("atomic_" + name);
 }
 size_t count_files(const fs::path& dir) {
   return size_t(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));

@@ -2,6 +2,7 @@
 // The benchmark harness: its CSV rows are the pipeline's own numbers, each method runs
 // with its options, and a run past the timeout is killed and reported as such.
 #include "core/pipeline.h"
+#include "scratch_dir.h"
 
 #include <gtest/gtest.h>
 
@@ -52,10 +53,7 @@ int run_benchmark(const std::string& args, const fs::path& dir) {
 }
 
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("dthex_benchmark_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return dthex_test::fresh_dir("benchmark_" + name);
 }
 
 }  // namespace

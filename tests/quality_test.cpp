@@ -5,6 +5,7 @@
 #include "core/tetrahedralize.h"
 #include "core/thex.h"
 #include "refine_fixtures.h"
+#include "scratch_dir.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -99,8 +100,7 @@ TEST(Quality, AgreesWithTheReferee) {
   // A TetGen sphere has slivers, so the minima are far from trivial.
   const TriSurface sphere = fixtures::read_off(DTHEX_SOURCE_DIR "/meshes/sphere728.off");
   const HexMesh mesh = dice(thex(tetrahedralize(sphere)), 2);
-  const std::string path = (std::filesystem::temp_directory_path() /
-                            ("dthex_quality_" + std::to_string(::getpid()) + ".vtk")).string();
+  const std::string path = (dthex_test::fresh_dir("quality") / "sphere_hexes.vtk").string();
   write_legacy_vtk(mesh, path);
   const std::string output = run("/usr/bin/python3 '" + script + "' '" + path + "' --json 2>/dev/null");
   std::filesystem::remove(path);

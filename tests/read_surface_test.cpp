@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "core/read_surface.h"
 #include "core/verify_surface.h"
+#include "scratch_dir.h"
 
 #include <gtest/gtest.h>
 
@@ -18,12 +19,7 @@ using dthex::Vec3;
 namespace {
 
 fs::path folder() {
-  static const fs::path dir = [] {
-    fs::path d = fs::temp_directory_path() / ("dthex_read_" + std::to_string(::getpid()));
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-  }();
+  static const fs::path dir = dthex_test::fresh_dir("read");
   return dir;
 }
 

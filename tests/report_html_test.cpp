@@ -5,6 +5,7 @@
 #include "core/pipeline.h"
 #include "core/quality.h"
 #include "core/report_html.h"
+#include "scratch_dir.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -249,8 +250,7 @@ TEST(ReportHtml, HeadlessChromiumRendersItWithoutConsoleErrors) {
   const char* chromium = "/usr/bin/chromium";
   if (!fs::exists(chromium)) GTEST_SKIP() << "chromium is not installed (tools/setup.sh installs it)";
   const SphereRuns& runs = sphere_runs();
-  const fs::path dir = fs::temp_directory_path() / ("dthex_report_html_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const fs::path dir = dthex_test::fresh_dir("report_html");
   auto render = [&](const std::string& name, const std::string& page, std::string& log) {
     const fs::path file = dir / name, dom = dir / (name + ".dom"), err = dir / (name + ".err");
     std::ofstream(file, std::ios::binary) << page;

@@ -16,6 +16,8 @@
 #include <sstream>
 #include <string>
 
+#include "scratch_dir.h"
+
 namespace dthex_test {
 
 struct CommandResult {
@@ -81,14 +83,6 @@ inline std::string read_bytes(const fs::path& p) {
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();
-}
-
-//! An empty folder of its own for one test (named after it and the process).
-inline fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("dthex_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
 }
 
 inline size_t entries_in(const fs::path& dir) {

@@ -55,10 +55,7 @@ HexMesh awkward_block() {
 }
 
 fs::path fresh_folder(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() / ("dthex_hexwrite_" + name + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return dthex_test::fresh_dir("hexwrite_" + name);
 }
 
 size_t count_files(const fs::path& dir) {

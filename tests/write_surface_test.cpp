@@ -39,10 +39,7 @@ TriSurface awkward_icosahedron() {
 }
 
 fs::path fresh_folder(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() / ("dthex_surfwrite_" + name + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return dthex_test::fresh_dir("surfwrite_" + name);
 }
 
 size_t count_files(const fs::path& dir) {
