@@ -143,6 +143,19 @@ int minimize_lbfgs(Eigen::VectorXd& z, Energy&& f, int max_iterations, Clock::ti
   return it;
 }
 
+//! The variables and energy terms of one repair or shape problem. Problems whose active
+//! hexes are disjoint touch disjoint entries of the per-node arrays, so each thread solves
+//! its own with its own Phase.
+struct Phase {
+  std::vector<size_t> movable_nodes, sliding_nodes;
+  std::vector<size_t> active_hexes;     //!< sorted: hexes with a movable node
+  std::vector<unsigned> active_frames;  //!< per active hex: bit k set if frame k can move
+  std::vector<int> incidence_start, incidence;  //!< per movable node: slots a * 8 + j in hex_gradient
+  std::vector<Vec3> hex_gradient;
+  int rounds = 0;
+  bool timed_out = false;
+};
+
 class Untangler {
  public:
   Untangler(HexMesh& mesh, const TriangleBvh& bvh, const UntangleOptions& options)
@@ -218,10 +231,7 @@ class Untangler {
         if (is_boundary_[v]) ever_sliding[v] = 1;
       // Each connected part on its own: a part that is repaired stops, a hard one does not
       // hold the step length and the rounds of the others.
-      for (const auto& part : connected_parts(movable, movable.size())) {
-        if (report.time_limit_reached) break;
-        run_phase(part, rounds, options_.max_lbfgs_iterations, report);
-      }
+      solve_parts(connected_parts(movable, movable.size()), rounds, options_.max_lbfgs_iterations, report);
       return true;
     };
     auto min_scaled_jacobian = [&] { return *std::min_element(scaled_jacobian_.begin(), scaled_jacobian_.end()); };
@@ -244,10 +254,8 @@ class Untangler {
       std::vector<size_t> movable;
       for (size_t v : grow_region(seeds, everywhere ? 0 : options_.smoothing_rings))
         if (!is_boundary_[v]) movable.push_back(v);
-      for (const auto& part : connected_parts(movable, size_t(options_.smoothing_part_nodes))) {
-        if (report.time_limit_reached) break;
-        run_phase(part, options_.smoothing_rounds, options_.smoothing_iterations, report);
-      }
+      solve_parts(connected_parts(movable, size_t(options_.smoothing_part_nodes)), options_.smoothing_rounds,
+                  options_.smoothing_iterations, report);
     }
     // 3. What is still below the target, locally, the boundary sliding where it must.
     if (!report.time_limit_reached) repair(options_.target_scaled_jacobian, false, fixed_rounds);
@@ -332,78 +340,131 @@ class Untangler {
     return parts;
   }
 
+  //! Solves every part, each with run_phase. Parts are coloured so that two of one colour
+  //! share no hex; the colours run one after the other (a part sees where the parts of
+  //! earlier colours moved their nodes) and the parts of one colour on all threads. The
+  //! result does not depend on the number of threads.
+  void solve_parts(const std::vector<std::vector<size_t>>& parts, int rounds, int iterations, UntangleReport& report) {
+    if (parts.empty() || report.time_limit_reached) return;
+    // Greedy colouring over the hexes the parts touch: a part takes the lowest colour no
+    // part already coloured uses on any of its hexes. 64 colours; a part that finds them all
+    // taken is solved alone after the others.
+    constexpr int kColours = 64;
+    std::vector<uint64_t> hex_colours(mesh_.hexes.size(), 0);
+    std::vector<std::vector<size_t>> by_colour(kColours + 1);
+    std::vector<int> hexes;
+    for (size_t p = 0; p < parts.size(); ++p) {
+      hexes.clear();
+      for (size_t v : parts[p])
+        for (int h : node_hexes_[v]) hexes.push_back(h);
+      uint64_t used = 0;
+      for (int h : hexes) used |= hex_colours[size_t(h)];
+      int colour = 0;
+      while (colour < kColours && (used >> colour & 1u)) ++colour;
+      if (colour < kColours)
+        for (int h : hexes) hex_colours[size_t(h)] |= uint64_t(1) << colour;
+      by_colour[size_t(colour)].push_back(p);
+    }
+    for (size_t colour = 0; colour <= kColours && !report.time_limit_reached; ++colour) {
+      const auto& batch = by_colour[colour];
+      // Each part in the last list may share hexes with any other: one at a time.
+      const bool parallel = colour < kColours && batch.size() > 1;
+      int rounds_done = 0;
+      bool timed_out = false;
+#pragma omp parallel if (parallel) reduction(+ : rounds_done) reduction(|| : timed_out)
+      {
+        Phase ph;
+#pragma omp for schedule(dynamic, 1)
+        for (long i = 0; i < long(batch.size()); ++i) {
+          if (Clock::now() > deadline_) {
+            timed_out = true;
+            continue;
+          }
+          run_phase(ph, parts[batch[size_t(i)]], rounds, iterations);
+          timed_out = timed_out || ph.timed_out;
+        }
+        rounds_done += ph.rounds;
+      }
+      report.rounds += rounds_done;
+      if (timed_out) report.time_limit_reached = true;
+    }
+  }
+
   // One epsilon-continuation run over `movable` (sorted node ids): interior nodes free,
   // boundary nodes among them move in their tangent plane and go back onto the surface
   // after every round. The cost follows the size of the region, not of the mesh.
-  void run_phase(const std::vector<size_t>& movable, int max_rounds, int max_iterations, UntangleReport& report) {
-    for (size_t v : movable_nodes_) var_offset_[v] = -1;
-    movable_nodes_ = movable;
-    sliding_nodes_.clear();
+  void run_phase(Phase& ph, const std::vector<size_t>& movable, int max_rounds, int max_iterations) {
+    ph.movable_nodes = movable;
+    ph.timed_out = false;
+    ph.sliding_nodes.clear();
     int n_vars = 0;
-    for (size_t v : movable_nodes_) {
+    for (size_t v : ph.movable_nodes) {
       var_offset_[v] = n_vars;
       n_vars += is_boundary_[v] ? 2 : 3;
-      if (is_boundary_[v]) sliding_nodes_.push_back(v);
+      if (is_boundary_[v]) ph.sliding_nodes.push_back(v);
     }
-    if (n_vars == 0) return;
+    if (n_vars == 0) {
+      for (size_t v : ph.movable_nodes) var_offset_[v] = -1;
+      return;
+    }
     // Only frames with a movable node enter the energy: the others are constant, and their
     // determinant would pin detmin (and so epsilon) where no move can change it.
-    active_hexes_.clear();
-    for (size_t v : movable_nodes_)
-      for (int h : node_hexes_[v]) active_hexes_.push_back(size_t(h));
-    std::sort(active_hexes_.begin(), active_hexes_.end());
-    active_hexes_.erase(std::unique(active_hexes_.begin(), active_hexes_.end()), active_hexes_.end());
-    active_frames_.clear();
-    for (size_t h : active_hexes_) {
+    ph.active_hexes.clear();
+    for (size_t v : ph.movable_nodes)
+      for (int h : node_hexes_[v]) ph.active_hexes.push_back(size_t(h));
+    std::sort(ph.active_hexes.begin(), ph.active_hexes.end());
+    ph.active_hexes.erase(std::unique(ph.active_hexes.begin(), ph.active_hexes.end()), ph.active_hexes.end());
+    ph.active_frames.clear();
+    for (size_t h : ph.active_hexes) {
       unsigned mask = 1u << 8;  // the centre frame involves all 8 nodes
       auto movable_corner = [&](int j) { return var_offset_[size_t(mesh_.hexes[h][size_t(j)])] >= 0; };
       for (int k = 0; k < 8; ++k)
         for (int j : kCornerFrames[k])
           if (movable_corner(j)) mask |= 1u << k;
-      active_frames_.push_back(mask);
+      ph.active_frames.push_back(mask);
     }
-    incidence_start_.assign(movable_nodes_.size() + 1, 0);
-    for (size_t i = 0; i < movable_nodes_.size(); ++i)
-      incidence_start_[i + 1] = incidence_start_[i] + int(node_hexes_[movable_nodes_[i]].size());
-    incidence_.assign(size_t(incidence_start_.back()), 0);
-    for (size_t i = 0; i < movable_nodes_.size(); ++i) {
-      int slot = incidence_start_[i];
-      const size_t v = movable_nodes_[i];
+    ph.incidence_start.assign(ph.movable_nodes.size() + 1, 0);
+    for (size_t i = 0; i < ph.movable_nodes.size(); ++i)
+      ph.incidence_start[i + 1] = ph.incidence_start[i] + int(node_hexes_[ph.movable_nodes[i]].size());
+    ph.incidence.assign(size_t(ph.incidence_start.back()), 0);
+    for (size_t i = 0; i < ph.movable_nodes.size(); ++i) {
+      int slot = ph.incidence_start[i];
+      const size_t v = ph.movable_nodes[i];
       for (int h : node_hexes_[v]) {
-        const size_t a = size_t(std::lower_bound(active_hexes_.begin(), active_hexes_.end(), size_t(h)) -
-                                active_hexes_.begin());
+        const size_t a = size_t(std::lower_bound(ph.active_hexes.begin(), ph.active_hexes.end(), size_t(h)) -
+                                ph.active_hexes.begin());
         size_t j = 0;
         while (size_t(mesh_.hexes[size_t(h)][j]) != v) ++j;
-        incidence_[size_t(slot++)] = int(a * 8 + j);
+        ph.incidence[size_t(slot++)] = int(a * 8 + j);
       }
     }
-    hex_gradient_.assign(active_hexes_.size() * 8, Vec3::Zero());
-    rebase();
+    ph.hex_gradient.assign(ph.active_hexes.size() * 8, Vec3::Zero());
+    rebase(ph);
     Eigen::VectorXd z = Eigen::VectorXd::Zero(n_vars), grad(n_vars);
     double detmin = 0;
-    evaluate(z, nullptr, 1.0, &detmin);
+    evaluate(ph, z, nullptr, 1.0, &detmin);
     double eps = detmin > 0 ? 1e-10 : std::sqrt(1e-12 + 0.04 * detmin * detmin);
-    const bool any_sliding = !sliding_nodes_.empty();
+    const bool any_sliding = !ph.sliding_nodes.empty();
     for (int round = 0; round < max_rounds; ++round) {
-      ++report.rounds;
+      ++ph.rounds;
       const bool keep_valid = detmin > 0;
       auto energy = [&](const Eigen::VectorXd& zz, Eigen::VectorXd& g) {
         double dm = 0;
-        const double e = evaluate(zz, &g, eps, &dm);
+        const double e = evaluate(ph, zz, &g, eps, &dm);
         return keep_valid && dm <= 0 ? kInf : e;
       };
-      const double e_prev = evaluate(z, nullptr, eps, &detmin);
+      const double e_prev = evaluate(ph, z, nullptr, eps, &detmin);
       bool timed_out = false;
       minimize_lbfgs(z, energy, max_iterations, deadline_, timed_out);
-      apply(z);
+      apply(ph, z);
       if (any_sliding) {
-        reproject();
-        rebase();
+        reproject(ph);
+        rebase(ph);
         z.setZero();
       }
-      const double e = evaluate(z, nullptr, eps, &detmin);
+      const double e = evaluate(ph, z, nullptr, eps, &detmin);
       if (timed_out) {
-        report.time_limit_reached = true;
+        ph.timed_out = true;
         break;
       }
       const double sigma = std::max(1.0 - e / e_prev, 0.1);
@@ -413,17 +474,19 @@ class Untangler {
       eps = detmin > 0 ? 1e-10 : detmin < mu ? 2.0 * std::sqrt(mu * (mu - detmin)) : 1e-10;
       if (detmin > 0 && std::abs(e_prev - e) <= 1e-5 * std::abs(e)) break;
     }
-    apply(z);
-    for (size_t v : movable_nodes_) pos_[v] = base_[v] = mesh_.nodes[v];
-    update_scaled_jacobians(active_hexes_.size(), [&](size_t a) { return active_hexes_[a]; });
+    apply(ph, z);
+    // var_offset_ is -1 everywhere between problems: a neighbouring problem solved at the
+    // same time reads it for the nodes of its own hexes.
+    for (size_t v : ph.movable_nodes) pos_[v] = base_[v] = mesh_.nodes[v], var_offset_[v] = -1;
+    update_scaled_jacobians(ph.active_hexes.size(), [&](size_t a) { return ph.active_hexes[a]; });
   }
 
   // Base positions and tangent frames of the variables: x = base + scale * (z or z0 t1 + z1 t2).
-  void rebase() {
-    for (size_t v : movable_nodes_) base_[v] = mesh_.nodes[v];
+  void rebase(const Phase& ph) {
+    for (size_t v : ph.movable_nodes) base_[v] = mesh_.nodes[v];
     const auto& points = bvh_.points();
     const auto& triangles = bvh_.triangles();
-    for (size_t v : sliding_nodes_) {
+    for (size_t v : ph.sliding_nodes) {
       // The tangent plane of the fine surface where the node is (the hex faces around it
       // may be folded, their normal is no guide).
       const TriangleBvh::ClosestPoint cp = bvh_.closest_point(mesh_.nodes[v]);
@@ -452,14 +515,14 @@ class Untangler {
     return moved;
   }
 
-  void apply(const Eigen::VectorXd& z) {
-    for (size_t v : movable_nodes_) mesh_.nodes[v] = position(z, v);
+  void apply(const Phase& ph, const Eigen::VectorXd& z) {
+    for (size_t v : ph.movable_nodes) mesh_.nodes[v] = position(z, v);
   }
 
   // Sliding nodes back onto the surface; a node whose closest point is further than it moved
   // in the round (it would cross to another sheet of the surface) goes back where it was.
-  void reproject() {
-    for (size_t v : sliding_nodes_) {
+  void reproject(const Phase& ph) {
+    for (size_t v : ph.sliding_nodes) {
       // At most a fraction of the local edge length per round: the tangent plane is a
       // good guide only near where it was taken.
       const double cap = kMaxSlidePerRound * node_scale_[v];
@@ -476,10 +539,10 @@ class Untangler {
   //! Energy over the active hexes, its gradient in z (if grad), and the smallest normalized
   //! determinant among them. Only the movable nodes are placed: every other node sits at
   //! its mesh position in pos_ for the whole phase.
-  double evaluate(const Eigen::VectorXd& z, Eigen::VectorXd* grad, double eps, double* detmin) {
+  double evaluate(Phase& ph, const Eigen::VectorXd& z, Eigen::VectorXd* grad, double eps, double* detmin) {
     const double theta = options_.theta;
-    const long n_movable = long(movable_nodes_.size());
-    const long n_active = long(active_hexes_.size());
+    const long n_movable = long(ph.movable_nodes.size());
+    const long n_active = long(ph.active_hexes.size());
     double total = 0, dmin = kInf;
     if (grad) grad->resize(z.size());
     // One parallel region per evaluation, and none for a small region: on a busy machine
@@ -488,14 +551,14 @@ class Untangler {
     {
 #pragma omp for schedule(static)
       for (long i = 0; i < n_movable; ++i) {
-        const size_t v = movable_nodes_[size_t(i)];
+        const size_t v = ph.movable_nodes[size_t(i)];
         pos_[v] = position(z, v);
       }
 #pragma omp for schedule(static) reduction(+ : total) reduction(min : dmin)
       for (long a = 0; a < n_active; ++a) {
-        const auto& hex = mesh_.hexes[active_hexes_[size_t(a)]];
-        const unsigned mask = active_frames_[size_t(a)];
-        const double inv_size = 1.0 / hex_size_[active_hexes_[size_t(a)]];
+        const auto& hex = mesh_.hexes[ph.active_hexes[size_t(a)]];
+        const unsigned mask = ph.active_frames[size_t(a)];
+        const double inv_size = 1.0 / hex_size_[ph.active_hexes[size_t(a)]];
         std::array<Vec3, 8> x, g;
         for (size_t j = 0; j < 8; ++j) x[j] = pos_[size_t(hex[j])], g[j].setZero();
         Eigen::Matrix3d jac, dj;
@@ -527,15 +590,15 @@ class Untangler {
                                            kCentreFrame[2][j] * dj.col(2));
         }
         if (grad)
-          for (size_t j = 0; j < 8; ++j) hex_gradient_[size_t(a) * 8 + j] = g[j];
+          for (size_t j = 0; j < 8; ++j) ph.hex_gradient[size_t(a) * 8 + j] = g[j];
       }
       if (grad) {
 #pragma omp for schedule(static)
         for (long i = 0; i < n_movable; ++i) {
-          const size_t v = movable_nodes_[size_t(i)];
+          const size_t v = ph.movable_nodes[size_t(i)];
           Vec3 gv = Vec3::Zero();
-          for (int slot = incidence_start_[size_t(i)]; slot < incidence_start_[size_t(i) + 1]; ++slot)
-            gv += hex_gradient_[size_t(incidence_[size_t(slot)])];
+          for (int slot = ph.incidence_start[size_t(i)]; slot < ph.incidence_start[size_t(i) + 1]; ++slot)
+            gv += ph.hex_gradient[size_t(ph.incidence[size_t(slot)])];
           gv *= node_scale_[v];
           const int o = var_offset_[v];
           if (!is_boundary_[v]) {
@@ -560,11 +623,7 @@ class Untangler {
   std::vector<double> scaled_jacobian_;  //!< per hex, kept up to date after every phase
   std::vector<char> in_region_;          //!< scratch of grow_region, all zero between calls
   std::vector<int> var_offset_;          //!< per node: first variable, -1 if it does not move
-  std::vector<size_t> movable_nodes_, sliding_nodes_;
-  std::vector<size_t> active_hexes_;     //!< sorted: hexes with a movable node
-  std::vector<unsigned> active_frames_;  //!< per active hex: bit k set if frame k can move
-  std::vector<int> incidence_start_, incidence_;  //!< per movable node: slots a * 8 + j in hex_gradient_
-  std::vector<Vec3> pos_, hex_gradient_;
+  std::vector<Vec3> pos_;
   std::vector<Vec3> base_, tangent1_, tangent2_;
 };
 

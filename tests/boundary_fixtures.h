@@ -126,4 +126,19 @@ inline TetMesh star_tets(const TriSurface& s, const Vec3& centre) {
   return tm;
 }
 
+// An n^3 block of the unit box with every interior node pushed by a deterministic
+// pseudo-random offset of up to `cells` cell: valid, but far from cubes.
+inline HexMesh perturbed_block(const TriSurface& box, int n, double cells) {
+  HexMesh mesh = hex_block(Vec3(0, 0, 0), Vec3(1, 1, 1), n, n, n);
+  label_boundary(mesh, box);
+  unsigned state = 12345;
+  auto next = [&] {
+    state = state * 1103515245u + 12345u;
+    return double((state >> 8) & 0xffff) / 65535.0 - 0.5;
+  };
+  for (size_t v = 0; v < mesh.nodes.size(); ++v)
+    if (!mesh.is_boundary_node(int(v))) mesh.nodes[v] += Vec3(next(), next(), next()) * (2 * cells / n);
+  return mesh;
+}
+
 }  // namespace dthex::testing
