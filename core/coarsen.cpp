@@ -51,6 +51,18 @@ class InputSurface {
     return true;
   }
 
+  //! The unit normal of the input triangle closest to p.
+  bool normal_at(const Point& p, Point& normal) const {
+    const auto cp = bvh_.closest_point(to_eigen(p));
+    if (cp.triangle < 0) return false;
+    const auto& t = input_.triangles[size_t(cp.triangle)];
+    const Vec3 a = input_.points[size_t(t[0])];
+    const Vec3 n = (input_.points[size_t(t[1])] - a).cross(input_.points[size_t(t[2])] - a);
+    if (!(n.norm() > 0)) return false;
+    normal = to_openmesh(n.normalized());
+    return true;
+  }
+
   double interpolate(int triangle, const Vec3& q) const {
     const auto& t = input_.triangles[size_t(triangle)];
     const Vec3 a = input_.points[size_t(t[0])], b = input_.points[size_t(t[1])], c = input_.points[size_t(t[2])];
@@ -177,6 +189,9 @@ RunOutput run_once(const SurfaceMesh& input_mesh, const TriSurface& input, const
     limits.max_normal_deviation_deg = options.max_normal_deviation_deg;
     limits.min_shape = options.min_shape;
     decimater.module(length).set_limits(limits);
+    if (options.max_surface_deviation_deg < 180)
+      decimater.module(length).set_surface_normal(
+          [&surface](const Point& p, Point& n) { return surface.normal_at(p, n); }, options.max_surface_deviation_deg);
     if (options.edge_swap) {
       decimater.add(swap);
       EdgeSwapOptions swap_options;

@@ -26,10 +26,14 @@ struct CoarsenOptions {
   //! Judge a collapse that fails the bounds with the kept vertex in place again with it where
   //! the post-collapse local smoothing puts it (ModNormalizedLengthT::set_placement; needs
   //! local_smoothing). Reaches the sizes: the paper's sphere at eps 0.1 stops at 14 vertices
-  //! instead of 20, and the bundled organs get ~25-30% fewer coarse triangles. Off by default:
-  //! on spot (and less so vertebra_L1) the coarser surface ends in folded / low-quality hexes
-  //! after projection and untangling (measured 2026-11-29; see the branch report).
-  bool judge_after_smoothing = false;
+  //! instead of 20, and the bundled organs get ~25-35% fewer coarse triangles. Off, the
+  //! bounds are judged on the intermediate mesh, as the paper prints them.
+  bool judge_after_smoothing = true;
+  //! No collapse may leave a triangle facing more than this (degrees) away from the input
+  //! surface under its centroid, and further than before (180: no such check). Without it,
+  //! judged after smoothing, spot's coarse surface folded where the head narrows (one
+  //! triangle 103 degrees off) and the hexes there stayed inverted after projection.
+  double max_surface_deviation_deg = 60.0;
   //! Self-intersections found in the result are repaired by re-running with the sizing
   //! halved around them (the last extra run keeps the input vertices there instead); at
   //! most this many extra runs.

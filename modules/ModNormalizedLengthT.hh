@@ -59,6 +59,19 @@ class ModNormalizedLengthT : public OpenMesh::Decimater::ModBaseT<MeshT> {
   //! collapse below the sqrt(2) bound exists long before the sizes are reached.
   void set_placement(Placement placement) { placement_ = std::move(placement); }
 
+  //! The unit normal of the input surface where it is closest to a point; false if unknown.
+  using SurfaceNormal = std::function<bool(const Point& p, Point& normal)>;
+  //! Optional. A collapse is also illegal when a triangle it changes would face more than
+  //! `max_deg` away from the input surface at the triangle's centroid, and further than it
+  //! did before. The per-collapse normal bound compares a triangle with its previous self
+  //! only, so turns can add up over many collapses; judged after smoothing, spot's coarse
+  //! surface ended with a triangle 103 degrees off the input where the head narrows, and
+  //! the hexes there stayed inverted after projection.
+  void set_surface_normal(SurfaceNormal surface_normal, double max_deg) {
+    surface_normal_ = std::move(surface_normal);
+    cos_surface_bound_ = std::cos(deg_to_rad(max_deg));
+  }
+
   void initialize() override {
     if (!Base::mesh().get_property_handle(size_, size_property_name()))
       throw std::logic_error("ModNormalizedLengthT: vertex property v:dthex_size is missing "
@@ -70,12 +83,10 @@ class ModNormalizedLengthT : public OpenMesh::Decimater::ModBaseT<MeshT> {
     const double hA = m.property(size_, ci.v1), hB = m.property(size_, ci.v0);
     const double l = normalized_length((ci.p1 - ci.p0).norm(), hA, hB);
     if (!(l < kShorterThanSize)) return float(Base::ILLEGAL_COLLAPSE);
-    if (collapse_keeps_shape(m, ci, size_, limits_, cos_bound_, ci.p1, hA)) return float(l);
+    if (keeps_shape(m, ci, ci.p1, hA)) return float(l);
     Point position;
     double h = hA;
-    if (placement_ && placement_(m, ci, position, h) &&
-        collapse_keeps_shape(m, ci, size_, limits_, cos_bound_, position, h))
-      return float(l);
+    if (placement_ && placement_(m, ci, position, h) && keeps_shape(m, ci, position, h)) return float(l);
     return float(Base::ILLEGAL_COLLAPSE);
   }
 
@@ -84,10 +95,10 @@ class ModNormalizedLengthT : public OpenMesh::Decimater::ModBaseT<MeshT> {
     if (!placement_) return;
     MeshT& m = Base::mesh();
     const double hA = m.property(size_, ci.v1);
-    if (collapse_keeps_shape(m, ci, size_, limits_, cos_bound_, ci.p1, hA)) return;
+    if (keeps_shape(m, ci, ci.p1, hA)) return;
     Point position;
     double h = hA;
-    if (placement_(m, ci, position, h) && collapse_keeps_shape(m, ci, size_, limits_, cos_bound_, position, h)) {
+    if (placement_(m, ci, position, h) && keeps_shape(m, ci, position, h)) {
       m.set_point(ci.v1, position);
       m.property(size_, ci.v1) = h;
     }
@@ -109,12 +120,18 @@ class ModNormalizedLengthT : public OpenMesh::Decimater::ModBaseT<MeshT> {
   }
 
  private:
+  bool keeps_shape(const MeshT& m, const CollapseInfo& ci, const Point& pA, double hA) const {
+    return collapse_keeps_shape(m, ci, size_, limits_, cos_bound_, pA, hA, surface_normal_ ? &surface_normal_ : nullptr,
+                                cos_surface_bound_);
+  }
+
   //! The limits with A at pA (size hA) after the collapse: every new edge A-P_i below the
   //! bound; when A moved, its kept edges too (as local smoothing requires); no triangle around
   //! A or B turned too far or newly below the shape floor.
   static bool collapse_keeps_shape(const MeshT& m, const CollapseInfo& ci, OpenMesh::VPropHandleT<double> size,
                                    const NormalizedLengthLimits& limits, double cos_bound, const Point& pA,
-                                   double hA) {
+                                   double hA, const SurfaceNormal* surface_normal = nullptr,
+                                   double cos_surface_bound = -1) {
     // Feature edges of the two vanishing triangles would be merged with non-feature ones.
     if (m.has_edge_status()) {
       const typename MeshT::HalfedgeHandle wings[4] = {ci.vlv1, ci.v0vl, ci.vrv0, ci.v1vr};
@@ -151,6 +168,11 @@ class ModNormalizedLengthT : public OpenMesh::Decimater::ModBaseT<MeshT> {
         if (double(n_old | n_new) < cos_bound * lo * ln) return false;
         const double shape_new = triangle_shape(pA, a, b);
         if (shape_new < limits.min_shape && shape_new < triangle_shape(p_old, a, b)) return false;
+        Point reference;
+        if (surface_normal && (*surface_normal)((pA + a + b) / 3, reference)) {
+          const double cos_new = double(n_new | reference) / ln, cos_old = double(n_old | reference) / lo;
+          if (cos_new < cos_surface_bound && cos_new < cos_old) return false;
+        }
       }
       return true;
     };
@@ -160,6 +182,8 @@ class ModNormalizedLengthT : public OpenMesh::Decimater::ModBaseT<MeshT> {
   OpenMesh::VPropHandleT<double> size_;
   NormalizedLengthLimits limits_;
   Placement placement_;
+  SurfaceNormal surface_normal_;
+  double cos_surface_bound_ = -1;
   double cos_bound_ = std::cos(deg_to_rad(NormalizedLengthLimits().max_normal_deviation_deg));
 };
 
