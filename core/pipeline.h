@@ -24,7 +24,7 @@ struct PipelineOptions {
   std::string tetgen_switches = "pq1.2Y";
   double time_limit_seconds = 600;  //!< bound for TetGen and the optimizer each
   bool global_smoothing = false;    //!< smooth the coarse surface globally (the paper's comparison)
-  bool judge_after_smoothing = false;  //!< CoarsenOptions::judge_after_smoothing
+  bool judge_after_smoothing = true;  //!< CoarsenOptions::judge_after_smoothing
   //! If > 0, eps is chosen so the final mesh has about this many nodes (within 10%);
   //! InputError, with the nearest reachable count, when no eps gets there.
   size_t target_nodes = 0;

@@ -183,9 +183,10 @@ int main(int argc, char** argv) {
   app.add_flag("--strict", cl.pipeline.strict, "exit 3 and write nothing if any inverted hex remains");
   app.add_flag("--global-smoothing", cl.pipeline.global_smoothing,
                "also smooth the coarse surface globally (area-weighted centroid pull), as the paper compares");
-  app.add_flag("--judge-after-smoothing", cl.pipeline.judge_after_smoothing,
-               "judge a coarsening collapse's edge, normal and shape bounds where the local smoothing that follows puts "
-               "the kept vertex: coarser surfaces that reach the sizes (the paper's sphere at eps 0.1: 14 vertices, not 20)");
+  app.add_flag("--judge-after-smoothing,!--judge-in-place", cl.pipeline.judge_after_smoothing,
+               "(default) judge a coarsening collapse's edge, normal and shape bounds where the local smoothing that "
+               "follows puts the kept vertex: coarser surfaces that reach the sizes (the paper's sphere at eps 0.1: 14 "
+               "vertices, not 20). --judge-in-place judges them with the kept vertex in place, as the paper prints it");
   app.add_option("--tetgen", cl.pipeline.tetgen_switches,
                  "TetGen switches (Y keeps the surface; q ratio bound; a volume bound)")
       ->default_val("pq1.2Y");
