@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "core/cluster_surface.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -33,20 +34,18 @@ Triangles triangulate(const std::vector<std::array<int, N>>& faces) {
   return t;
 }
 
-// Which of the six axis directions a vertex's area-weighted normal is closest to.
-std::vector<uint8_t> normal_classes(const std::vector<Vec3>& points, const Triangles& t) {
+// Unit area-weighted vertex normals (zero for a vertex no triangle uses).
+std::vector<Vec3> vertex_normals(const std::vector<Vec3>& points, const Triangles& t) {
   std::vector<Vec3> normal(points.size(), Vec3::Zero());
   for (const auto& c : t.corners) {
     const Vec3 n = (points[size_t(c[1])] - points[size_t(c[0])]).cross(points[size_t(c[2])] - points[size_t(c[0])]);
     for (int v : c) normal[size_t(v)] += n;
   }
-  std::vector<uint8_t> cls(points.size(), 0);
-  for (size_t v = 0; v < points.size(); ++v) {
-    int axis = 0;
-    normal[v].cwiseAbs().maxCoeff(&axis);
-    cls[v] = uint8_t(2 * axis + (normal[v][axis] < 0 ? 1 : 0));
+  for (Vec3& n : normal) {
+    const double length = n.norm();
+    if (length > 0) n /= length;
   }
-  return cls;
+  return normal;
 }
 
 struct Grid {
@@ -69,15 +68,42 @@ class Clusterer {
       first = false;
     }
     grid_.longest = std::max((hi - grid_.lo).maxCoeff(), 1e-300);
-    class_ = normal_classes(points, t);
+    normal_ = vertex_normals(points, t);
   }
 
   // Cluster of every used vertex for `cells` cells along the longest side; vertices
-  // flagged in `singleton` get a cluster of their own. Returns the cluster count.
+  // flagged in `singleton` get a cluster of their own. A cell's vertices split in two by
+  // the side their normal lies on of the cell's principal normal direction: the two
+  // sides of a sheet (or a fold) thinner than the cell stay apart, while a smooth patch,
+  // whose normals all lie on one side, stays one cluster. Returns the cluster count.
   size_t assign(size_t cells, const std::vector<char>& singleton, std::vector<int>& cluster) const {
     const double h = grid_.longest / double(cells);
-    std::unordered_map<uint64_t, int> ids;
+    std::unordered_map<uint64_t, int> cell_ids, ids;
+    cell_ids.reserve(std::min(points_.size(), 4 * cells * cells + 1024));
     ids.reserve(std::min(points_.size(), 8 * cells * cells + 1024));
+    std::vector<int> cell_of(points_.size(), -1);
+    std::vector<uint64_t> cell_key;
+    std::vector<Eigen::Matrix3d> scatter;
+    for (size_t v = 0; v < points_.size(); ++v) {
+      if (!used_[v] || singleton[v]) continue;
+      const Vec3 cell = (points_[v] - grid_.lo) / h;
+      uint64_t ijk[3];
+      for (int k = 0; k < 3; ++k) ijk[k] = uint64_t(std::clamp<double>(std::floor(cell[k]), 0.0, double(cells - 1)));
+      const uint64_t key = (ijk[0] << 20 | ijk[1]) << 20 | ijk[2];
+      const auto [it, inserted] = cell_ids.emplace(key, int(cell_key.size()));
+      if (inserted) {
+        cell_key.push_back(key);
+        scatter.push_back(Eigen::Matrix3d::Zero());
+      }
+      cell_of[v] = it->second;
+      scatter[size_t(it->second)] += normal_[v] * normal_[v].transpose();
+    }
+    std::vector<Vec3> principal(scatter.size());
+    for (size_t c = 0; c < scatter.size(); ++c) {
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+      solver.computeDirect(scatter[c]);
+      principal[c] = solver.eigenvectors().col(2);  // eigenvalues ascend: the largest is last
+    }
     cluster.assign(points_.size(), -1);
     for (size_t v = 0; v < points_.size(); ++v) {
       if (!used_[v]) continue;
@@ -85,11 +111,8 @@ class Clusterer {
       if (singleton[v]) {
         key = kSingleton | v;
       } else {
-        const Vec3 cell = (points_[v] - grid_.lo) / h;
-        uint64_t ijk[3];
-        for (int k = 0; k < 3; ++k)
-          ijk[k] = uint64_t(std::clamp<double>(std::floor(cell[k]), 0.0, double(cells - 1)));
-        key = (((ijk[0] << 20 | ijk[1]) << 20 | ijk[2]) << 3) | class_[v];
+        const size_t c = size_t(cell_of[v]);
+        key = cell_key[c] << 1 | (normal_[v].dot(principal[c]) < 0 ? 1 : 0);
       }
       cluster[v] = ids.emplace(key, int(ids.size())).first->second;
     }
@@ -111,7 +134,7 @@ class Clusterer {
   const std::vector<Vec3>& points_;
   const Triangles& t_;
   std::vector<char> used_;
-  std::vector<uint8_t> class_;
+  std::vector<Vec3> normal_;
   Grid grid_;
 };
 
@@ -236,8 +259,8 @@ ClusteredSurface cluster_faces(const std::vector<Vec3>& points, const std::vecto
       out.kept_faces = kept;
       return out;
     }
-    // Even one cell per normal class is too much: the kept faces alone overflow. With
-    // none kept, one cell leaves at most six clusters, so a handful of triangles.
+    // Even one cell is too much: the kept faces alone overflow. With none kept, one cell
+    // leaves at most two clusters, so no triangle at all.
     if (kept == 0) {
       const size_t clusters = clusterer.assign(1, singleton, cluster);
       ClusteredSurface out = build(points, t, cluster, clusters, priority);

@@ -29,9 +29,9 @@ struct ClusteredSurface {
 };
 
 //! Snaps the vertices of a surface (triangles or quads; quads are split in two) to a
-//! uniform grid, one cluster per cell and per dominant normal direction (six classes, so
-//! the two sides of a sheet thinner than a cell do not merge), moves each cluster to the
-//! mean of its vertices and keeps the triangles whose three corners land in three
+//! uniform grid, one cluster per cell and per side of the cell's principal normal
+//! direction (so the two sides of a sheet thinner than a cell do not merge, while a
+//! smooth patch stays one cluster), moves each cluster to the mean of its vertices and keeps the triangles whose three corners land in three
 //! clusters. Triangles that land on the same three clusters add up as oriented chains:
 //! opposite copies cancel, equal copies count once. The map of a closed surface is then
 //! still closed (the boundary of the image is the image of the empty boundary): every

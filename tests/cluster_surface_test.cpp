@@ -11,6 +11,7 @@
 #include <cmath>
 #include <map>
 #include <random>
+#include <set>
 
 using namespace dthex;
 
@@ -131,6 +132,18 @@ TEST(ClusterSurface, SphereFitsTheBudgetClosedWithItsAreaAndVolume) {
   for (const Vec3& p : r.points) EXPECT_NEAR(p.norm(), 1.0, std::sqrt(3.0) * cell);
   ASSERT_EQ(r.source_face.size(), r.triangles.size());
   for (size_t s : r.source_face) EXPECT_LT(s, sphere.triangles.size());
+  // A smooth patch is not split: no more clusters than occupied grid cells (the grid
+  // spans the bounding box, grid_cells along its longest side).
+  Vec3 lo = sphere.points.front(), hi = lo;
+  for (const Vec3& p : sphere.points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const double h = (hi - lo).maxCoeff() / double(r.grid_cells);
+  std::set<std::array<long, 3>> occupied;
+  for (const Vec3& p : sphere.points) {
+    std::array<long, 3> c;
+    for (int k = 0; k < 3; ++k) c[size_t(k)] = std::min(long(r.grid_cells) - 1, long(std::floor((p[k] - lo[k]) / h)));
+    occupied.insert(c);
+  }
+  EXPECT_LE(r.points.size(), occupied.size());
 }
 
 TEST(ClusterSurface, WithinTheBudgetTheSurfaceComesBackUnchanged) {
