@@ -164,13 +164,13 @@ nlohmann::json layer_json(const std::string& name, const std::vector<Vec3>& poin
     std::string caption = name + ": " + thousands(faces.size()) + unit + " reduced to " +
                           thousands(reduced.triangles.size()) + " triangles by vertex clustering on a grid of " +
                           std::to_string(reduced.grid_cells) +
-                          " cells along the longest side, to keep the page small (closed, no holes; each triangle "
-                          "has the worst quality of the faces merged into it)";
+                          " cells along the longest side, to keep the page small (this adds no holes; each "
+                          "triangle takes the worst quality of the original faces mapped onto it)";
     if (flagged > 0)
       caption += reduced.kept_faces == flagged
                      ? "; all " + thousands(flagged) + " faces of poor hexes are shown unchanged"
                      : "; the worst " + thousands(reduced.kept_faces) + " of " + thousands(flagged) +
-                           " faces of poor hexes are shown unchanged";
+                           " faces of poor hexes are shown unchanged, the others merged like the rest";
     layer["caption"] = caption;
     layer["reduction"] = {{"method", "vertex clustering"}, {"grid_cells", reduced.grid_cells},
                           {"kept_faces", reduced.kept_faces}, {"source_arity", N}};
