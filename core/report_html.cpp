@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "core/report_html.h"
 
+#include "core/cluster_surface.h"
 #include "core/conformity.h"
 
 #include <nlohmann/json.hpp>
@@ -9,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <numeric>
 #include <sstream>
 
 #ifndef DTHEX_VERSION
@@ -93,35 +95,18 @@ struct LayerMetric {
   std::vector<double> per_face;
 };
 
-// One surface of the viewer: triangles or quads, a quality value per face.
+// The embedded arrays of one layer: quantized positions of the vertices the faces use,
+// face indices, and per metric one byte per face (the value of source_face[f]).
 template <size_t N>
-nlohmann::json layer_json(const std::string& name, const std::vector<Vec3>& points,
-                          const std::vector<std::array<int, N>>& faces, const std::vector<LayerMetric>& metrics,
-                          const std::vector<char>& always_keep, const Quantizer& quantizer) {
-  // Uniform sample above the cap; faces flagged always_keep (poor hexes) stay regardless.
-  std::vector<size_t> chosen;
-  const size_t cap = kReportMaxFacesPerLayer;
-  if (faces.size() <= cap) {
-    chosen.resize(faces.size());
-    for (size_t f = 0; f < faces.size(); ++f) chosen[f] = f;
-  } else {
-    size_t forced = 0;
-    for (char keep : always_keep) forced += keep ? 1 : 0;
-    forced = std::min(forced, cap / 2);
-    const size_t stride = (faces.size() + (cap - forced) - 1) / (cap - forced);
-    size_t forced_taken = 0;
-    for (size_t f = 0; f < faces.size(); ++f) {
-      const bool keep = !always_keep.empty() && always_keep[f] && forced_taken < forced;
-      if (keep) ++forced_taken;
-      if (keep || f % stride == 0) chosen.push_back(f);
-    }
-  }
+nlohmann::json layer_arrays(const std::vector<Vec3>& points, const std::vector<std::array<int, N>>& faces,
+                            const std::vector<size_t>& source_face, const std::vector<LayerMetric>& metrics,
+                            const Quantizer& quantizer) {
   std::vector<int> new_index(points.size(), -1);
   std::vector<uint16_t> positions;
   std::vector<uint32_t> indices;
-  indices.reserve(chosen.size() * N);
-  for (size_t f : chosen) {
-    for (int v : faces[f]) {
+  indices.reserve(faces.size() * N);
+  for (const auto& face : faces) {
+    for (int v : face) {
       if (new_index[size_t(v)] < 0) {
         new_index[size_t(v)] = int(positions.size() / 3);
         const Vec3 p = quantizer.normalized(points[size_t(v)]);
@@ -133,17 +118,66 @@ nlohmann::json layer_json(const std::string& name, const std::vector<Vec3>& poin
   nlohmann::json metric_list = nlohmann::json::array();
   for (const LayerMetric& m : metrics) {
     std::vector<uint8_t> values;
-    values.reserve(chosen.size());
-    for (size_t f : chosen) {
-      const double t = (m.per_face[f] - m.lo) / (m.hi - m.lo);
+    values.reserve(faces.size());
+    for (size_t f = 0; f < faces.size(); ++f) {
+      const double t = (m.per_face[source_face[f]] - m.lo) / (m.hi - m.lo);
       values.push_back(uint8_t(std::lround(std::clamp(t, 0.0, 1.0) * 255.0)));
     }
     metric_list.push_back({{"name", m.name}, {"lo", m.lo}, {"hi", m.hi}, {"values", base64_of(values)}});
   }
-  return {{"name", name},         {"arity", N},
-          {"total", faces.size()}, {"shown", chosen.size()},
-          {"positions", base64_of(positions)}, {"faces", base64_of(indices)},
-          {"metrics", metric_list}};
+  return {{"arity", N}, {"shown", faces.size()}, {"positions", base64_of(positions)},
+          {"faces", base64_of(indices)}, {"metrics", metric_list}};
+}
+
+std::string thousands(size_t n) {
+  std::string digits = std::to_string(n), out;
+  for (size_t i = 0; i < digits.size(); ++i) {
+    if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
+    out += digits[i];
+  }
+  return out;
+}
+
+// One surface of the viewer: triangles or quads, a quality value per face. Above the
+// cap the layer is reduced by vertex clustering, which keeps it closed (a sample of the
+// faces would leave holes); faces flagged always_keep (poor hexes) are kept unchanged and
+// every reduced triangle shows the worst quality among the faces merged into it.
+template <size_t N>
+nlohmann::json layer_json(const std::string& name, const std::vector<Vec3>& points,
+                          const std::vector<std::array<int, N>>& faces, const std::vector<LayerMetric>& metrics,
+                          const std::vector<char>& always_keep, const Quantizer& quantizer, size_t cap) {
+  const char* unit = N == 4 ? " quads" : " triangles";
+  nlohmann::json layer;
+  if (faces.size() <= cap) {
+    std::vector<size_t> identity(faces.size());
+    std::iota(identity.begin(), identity.end(), size_t(0));
+    layer = layer_arrays(points, faces, identity, metrics, quantizer);
+    layer["caption"] = name + ": all " + thousands(faces.size()) + unit;
+  } else {
+    ClusterSurfaceOptions cluster_options;
+    cluster_options.max_triangles = cap;
+    const ClusteredSurface reduced = cluster_surface(
+        points, faces, metrics.empty() ? std::vector<double>() : metrics.front().per_face, always_keep, cluster_options);
+    layer = layer_arrays(reduced.points, reduced.triangles, reduced.source_face, metrics, quantizer);
+    size_t flagged = 0;
+    for (char keep : always_keep) flagged += keep ? 1 : 0;
+    std::string caption = name + ": " + thousands(faces.size()) + unit + " reduced to " +
+                          thousands(reduced.triangles.size()) + " triangles by vertex clustering on a grid of " +
+                          std::to_string(reduced.grid_cells) +
+                          " cells along the longest side, to keep the page small (this adds no holes; each "
+                          "triangle takes the worst quality of the original faces mapped onto it)";
+    if (flagged > 0)
+      caption += reduced.kept_faces == flagged
+                     ? "; all " + thousands(flagged) + " faces of poor hexes are shown unchanged"
+                     : "; the worst " + thousands(reduced.kept_faces) + " of " + thousands(flagged) +
+                           " faces of poor hexes are shown unchanged, the others merged like the rest";
+    layer["caption"] = caption;
+    layer["reduction"] = {{"method", "vertex clustering"}, {"grid_cells", reduced.grid_cells},
+                          {"kept_faces", reduced.kept_faces}, {"source_arity", N}};
+  }
+  layer["name"] = name;
+  layer["total"] = faces.size();
+  return layer;
 }
 
 // The hex owning each boundary quad, found through the hexes of the quad's first node.
@@ -172,7 +206,7 @@ std::vector<size_t> quad_owners(const HexMesh& mesh, const std::vector<std::arra
   return owners;
 }
 
-nlohmann::json geometry_json(const PipelineResult& r, const PipelineOptions& options) {
+nlohmann::json geometry_json(const PipelineResult& r, const PipelineOptions& options, size_t cap) {
   const Quantizer quantizer(r.input.points);
   nlohmann::json layers = nlohmann::json::array();
 
@@ -187,14 +221,14 @@ nlohmann::json geometry_json(const PipelineResult& r, const PipelineOptions& opt
     shape.per_face.push_back(h < r.quality.shape.size() ? r.quality.shape[h] : 0.0);
     poor[q] = j < 0.2;
   }
-  layers.push_back(layer_json<4>("hex boundary", r.hexes.nodes, quads, {sj, shape}, poor, quantizer));
+  layers.push_back(layer_json<4>("hex boundary", r.hexes.nodes, quads, {sj, shape}, poor, quantizer, cap));
 
   if (!options.thex_only) {
     LayerMetric coarse_shape{"triangle shape", 0.0, 1.0, triangle_shapes(r.coarse)};
-    layers.push_back(layer_json<3>("coarse surface", r.coarse.points, r.coarse.triangles, {coarse_shape}, {}, quantizer));
+    layers.push_back(layer_json<3>("coarse surface", r.coarse.points, r.coarse.triangles, {coarse_shape}, {}, quantizer, cap));
   }
   LayerMetric input_shape{"triangle shape", 0.0, 1.0, triangle_shapes(r.input)};
-  layers.push_back(layer_json<3>("input surface", r.input.points, r.input.triangles, {input_shape}, {}, quantizer));
+  layers.push_back(layer_json<3>("input surface", r.input.points, r.input.triangles, {input_shape}, {}, quantizer, cap));
 
   nlohmann::json worst = nlohmann::json::array();
   for (size_t h : r.worst_hexes) {
@@ -433,7 +467,7 @@ const char* kScript = R"JS(
       for (var i = 0; i < quantized.length; ++i) positions[i] = quantized[i] / 65535 - 0.5;
       var count = positions.length / 3;
       return {
-        name: layer.name, arity: layer.arity, total: layer.total, shown: layer.shown,
+        name: layer.name, caption: layer.caption, arity: layer.arity, total: layer.total, shown: layer.shown,
         positions: positions, faces: new Uint32Array(f.buffer, 0, f.length >> 2),
         metrics: layer.metrics.map(function (m) { return { name: m.name, lo: m.lo, hi: m.hi, values: decode(m.values) }; }),
         sx: new Float32Array(count), sy: new Float32Array(count), sz: new Float32Array(count)
@@ -470,9 +504,7 @@ const char* kScript = R"JS(
         var option = document.createElement('option');
         option.value = String(i); option.textContent = m.name; metricSelect.appendChild(option);
       });
-      var sampled = layer.shown < layer.total;
-      info.textContent = layer.name + ': ' + layer.shown.toLocaleString() + ' of ' + layer.total.toLocaleString() +
-        (layer.arity === 4 ? ' quads' : ' triangles') + (sampled ? ' (a uniform sample plus every poor hex face, to keep the page small)' : '');
+      info.textContent = layer.caption;
     }
     function updateLegend() {
       var layer = layers[Number(layerSelect.value)], metric = layer.metrics[Number(metricSelect.value)];
@@ -579,7 +611,8 @@ const char* kScript = R"JS(
 
 }  // namespace
 
-std::string report_html(const PipelineResult& r, const PipelineOptions& options, const PipelineResult* thex_baseline) {
+std::string report_html(const PipelineResult& r, const PipelineOptions& options, const PipelineResult* thex_baseline,
+                        const ReportHtmlOptions& html_options) {
   std::vector<std::pair<std::string, const PipelineResult*>> runs;
   runs.emplace_back(options.thex_only ? "THex" : "DTHex", &r);
   if (thex_baseline) runs.emplace_back("THex baseline", thex_baseline);
@@ -593,7 +626,7 @@ std::string report_html(const PipelineResult& r, const PipelineOptions& options,
     sj_series.push_back({key, runs[i].first, colours[i], histogram(run.quality.scaled_jacobian, 40, -1.0, 1.0)});
   }
 
-  std::string geometry = geometry_json(r, options).dump();
+  std::string geometry = geometry_json(r, options, std::max<size_t>(html_options.max_faces_per_layer, 1)).dump();
   // Nothing in it can close the script element, but keep it so whatever the data.
   for (size_t at = geometry.find("</"); at != std::string::npos; at = geometry.find("</", at + 3))
     geometry.replace(at, 2, "<\\/");

@@ -4,6 +4,7 @@
 #include "core/conformity.h"
 #include "core/pipeline.h"
 #include "core/quality.h"
+#include "core/read_surface.h"
 #include "core/report_html.h"
 #include "scratch_dir.h"
 
@@ -12,6 +13,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -91,10 +93,77 @@ std::vector<uint8_t> decode_base64(const std::string& text) {
   return out;
 }
 
+std::string thousands(size_t n) {
+  std::string digits = std::to_string(n), out;
+  for (size_t i = 0; i < digits.size(); ++i) {
+    if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
+    out += digits[i];
+  }
+  return out;
+}
+
 const nlohmann::json* layer_named(const nlohmann::json& geometry, const std::string& name) {
   for (const auto& layer : geometry["layers"])
     if (layer["name"] == name) return &layer;
   return nullptr;
+}
+
+// One embedded layer decoded: positions in the page's normalized cube, faces, metric bytes.
+struct ShownLayer {
+  size_t arity = 0;
+  std::vector<uint16_t> quantized;  // 3 per vertex
+  std::vector<uint32_t> faces;      // arity per face
+  std::vector<std::vector<uint8_t>> metrics;
+
+  size_t face_count() const { return arity ? faces.size() / arity : 0; }
+  Vec3 position(uint32_t v) const {
+    return Vec3(quantized[3 * v], quantized[3 * v + 1], quantized[3 * v + 2]) / 65535.0;
+  }
+  // Area of the faces (quads split along their 0-2 diagonal), in the normalized cube.
+  double area() const {
+    double a = 0;
+    for (size_t f = 0; f < face_count(); ++f)
+      for (size_t k = 1; k + 1 < arity; ++k) {
+        const Vec3 p = position(faces[arity * f]), q = position(faces[arity * f + k]),
+                   r = position(faces[arity * f + k + 1]);
+        a += 0.5 * (q - p).cross(r - p).norm();
+      }
+    return a;
+  }
+  // Edges used by fewer than two faces: the holes a person sees.
+  size_t open_edges() const {
+    std::map<std::pair<uint32_t, uint32_t>, int> uses;
+    for (size_t f = 0; f < face_count(); ++f)
+      for (size_t k = 0; k < arity; ++k)
+        ++uses[std::minmax(faces[arity * f + k], faces[arity * f + (k + 1) % arity])];
+    size_t open = 0;
+    for (const auto& [edge, count] : uses) open += count < 2;
+    return open;
+  }
+  // A face's corners as quantized coordinates, starting at the given corner.
+  std::vector<uint16_t> corners(size_t f, size_t first, const std::vector<size_t>& order) const {
+    std::vector<uint16_t> out;
+    for (size_t k : order)
+      for (int c = 0; c < 3; ++c) out.push_back(quantized[3 * faces[arity * f + (first + k) % arity] + c]);
+    return out;
+  }
+};
+
+template <class T>
+std::vector<T> decode_array(const std::string& text) {
+  const std::vector<uint8_t> bytes = decode_base64(text);
+  std::vector<T> out(bytes.size() / sizeof(T));
+  std::memcpy(out.data(), bytes.data(), out.size() * sizeof(T));
+  return out;
+}
+
+ShownLayer shown_layer(const nlohmann::json& layer) {
+  ShownLayer s;
+  s.arity = layer["arity"];
+  s.quantized = decode_array<uint16_t>(layer["positions"]);
+  s.faces = decode_array<uint32_t>(layer["faces"]);
+  for (const auto& m : layer["metrics"]) s.metrics.push_back(decode_base64(m["values"]));
+  return s;
 }
 
 struct SphereRuns {
@@ -198,9 +267,10 @@ TEST(ReportHtml, EmbedsTheThreeSurfacesAndTheWorstHexes) {
   EXPECT_NEAR(geometry["worst"][0]["scaled_jacobian"].get<double>(), d.quality.scaled_jacobian_stats.min, 1e-12);
 }
 
-// A slab of 400 x 400 hexes has 321,600 boundary quads: the page shows a sample of them,
-// bounded, and every quad of a poor hex regardless of the sampling.
-TEST(ReportHtml, LargeBoundaryIsSampledButKeepsEveryPoorHex) {
+// A slab of 400 x 400 hexes has 321,600 boundary quads, twice the cap: the page shows a
+// reduced surface that is still closed (a sample of the faces would be full of holes),
+// has the slab's area, fits the cap, and keeps every quad of a poor hex unchanged.
+TEST(ReportHtml, LargeBoundaryIsReducedClosedAndKeepsEveryPoorHex) {
   const int n = 400;
   PipelineResult r;
   r.input_path = "slab";
@@ -235,15 +305,79 @@ TEST(ReportHtml, LargeBoundaryIsSampledButKeepsEveryPoorHex) {
   const nlohmann::json* hex = layer_named(geometry, "hex boundary");
   ASSERT_TRUE(hex);
   EXPECT_EQ((*hex)["total"].get<size_t>(), quads.size());
-  const size_t shown = (*hex)["shown"];
-  EXPECT_LE(shown, kReportMaxFacesPerLayer + 4 * sunk);
-  EXPECT_GT(shown, kReportMaxFacesPerLayer / 2);
-  // Every poor hex's boundary quads are shown: each slab hex owns its top and bottom quad.
-  size_t poor_hexes = 0, poor_shown = 0;
+  const ShownLayer shown = shown_layer(*hex);
+  EXPECT_EQ(shown.open_edges(), 0u);
+  EXPECT_EQ(shown.face_count(), (*hex)["shown"].get<size_t>());
+  EXPECT_LE(shown.face_count(), kReportMaxFacesPerLayer);
+  EXPECT_GT(shown.face_count(), kReportMaxFacesPerLayer / 2);  // the budget is used, not wasted
+  ASSERT_EQ(shown.arity, 3u);  // quads merged by clustering may become triangles
+
+  // The same page without a cap shows every quad: the reference for area and poor faces.
+  ReportHtmlOptions uncapped;
+  uncapped.max_faces_per_layer = quads.size();
+  const ShownLayer all = shown_layer(*layer_named(embedded_geometry(report_html(r, options, nullptr, uncapped)),
+                                                  "hex boundary"));
+  ASSERT_EQ(all.arity, 4u);
+  ASSERT_EQ(all.face_count(), quads.size());
+  EXPECT_EQ(all.open_edges(), 0u);
+  EXPECT_NEAR(shown.area() / all.area(), 1.0, 0.03);
+
+  // Every quad of a poor hex is shown as its two triangles, same corners, same colour.
+  auto poor = [](uint8_t v) { return -1.0 + 2.0 * v / 255.0 < 0.2; };
+  std::map<std::vector<uint16_t>, uint8_t> shown_triangles;  // corners (any rotation) -> scaled Jacobian byte
+  for (size_t t = 0; t < shown.face_count(); ++t)
+    for (size_t first = 0; first < 3; ++first) shown_triangles[shown.corners(t, first, {0, 1, 2})] = shown.metrics[0][t];
+  size_t poor_hexes = 0, poor_quads = 0, poor_quads_shown = 0;
   for (double q : r.quality.scaled_jacobian) poor_hexes += q < 0.2;
-  for (uint8_t v : decode_base64((*hex)["metrics"][0]["values"])) poor_shown += (-1.0 + 2.0 * v / 255.0) < 0.2;
+  for (size_t q = 0; q < all.face_count(); ++q) {
+    if (!poor(all.metrics[0][q])) continue;
+    ++poor_quads;
+    const auto a = shown_triangles.find(all.corners(q, 0, {0, 1, 2})), b = shown_triangles.find(all.corners(q, 0, {0, 2, 3}));
+    poor_quads_shown += a != shown_triangles.end() && b != shown_triangles.end() && a->second == all.metrics[0][q] &&
+                        b->second == all.metrics[0][q];
+  }
   EXPECT_EQ(poor_hexes, 4 * sunk);
-  EXPECT_EQ(poor_shown, 2 * poor_hexes);
+  EXPECT_EQ(poor_quads, 2 * poor_hexes);
+  EXPECT_EQ(poor_quads_shown, poor_quads);
+
+  // The caption says what is shown.
+  const std::string caption = (*hex)["caption"];
+  EXPECT_NE(caption.find("reduced to " + thousands(shown.face_count()) + " triangles by vertex clustering"),
+            std::string::npos) << caption;
+  EXPECT_NE(caption.find("all " + thousands(poor_quads) + " faces of poor hexes are shown unchanged"),
+            std::string::npos) << caption;
+  EXPECT_EQ((*hex)["reduction"]["method"], "vertex clustering");
+}
+
+// A real closed surface over a (lowered) cap: the input layer is reduced, closed, and
+// keeps the bone's area; under the cap a layer is shown whole and says so.
+TEST(ReportHtml, InputSurfaceOverTheCapIsReducedWithoutHoles) {
+  PipelineResult r;
+  r.input_path = "femur";
+  r.input = read_surface(mesh("femur_proximal_ct.off"));
+  PipelineOptions options;
+  options.thex_only = true;
+  ReportHtmlOptions html;
+  html.max_faces_per_layer = 8000;
+  ASSERT_GT(r.input.triangles.size(), 8 * html.max_faces_per_layer);
+  const nlohmann::json* input_layer;
+  const nlohmann::json reduced_geometry = embedded_geometry(report_html(r, options, nullptr, html));
+  input_layer = layer_named(reduced_geometry, "input surface");
+  ASSERT_TRUE(input_layer);
+  const ShownLayer reduced = shown_layer(*input_layer);
+  EXPECT_LE(reduced.face_count(), html.max_faces_per_layer);
+  EXPECT_GT(reduced.face_count(), html.max_faces_per_layer / 2);
+  EXPECT_EQ(reduced.open_edges(), 0u);
+  EXPECT_NE((*input_layer)["caption"].get<std::string>().find("by vertex clustering"), std::string::npos);
+
+  html.max_faces_per_layer = r.input.triangles.size();
+  const nlohmann::json whole_geometry = embedded_geometry(report_html(r, options, nullptr, html));
+  const ShownLayer whole = shown_layer(*layer_named(whole_geometry, "input surface"));
+  ASSERT_EQ(whole.face_count(), r.input.triangles.size());
+  EXPECT_EQ(whole.open_edges(), 0u);
+  EXPECT_NEAR(reduced.area() / whole.area(), 1.0, 0.03);
+  EXPECT_EQ((*layer_named(whole_geometry, "input surface"))["caption"],
+            "input surface: all " + thousands(r.input.triangles.size()) + " triangles");
 }
 
 TEST(ReportHtml, HeadlessChromiumRendersItWithoutConsoleErrors) {
@@ -273,6 +407,16 @@ TEST(ReportHtml, HeadlessChromiumRendersItWithoutConsoleErrors) {
   EXPECT_LT(std::stoul(drawn[1]), check_conformity(runs.dthex.hexes).boundary_faces);
   EXPECT_EQ(log.find(":CONSOLE"), std::string::npos) << log;
   EXPECT_EQ(log.find("Uncaught"), std::string::npos) << log;
+
+  // A page whose layers are reduced (a lowered cap) draws them too and captions them.
+  ReportHtmlOptions small;
+  small.max_faces_per_layer = check_conformity(runs.dthex.hexes).boundary_faces / 2;
+  const std::string reduced_dom = render("reduced.html", report_html(runs.dthex, runs.options, nullptr, small), log);
+  EXPECT_NE(reduced_dom.find("data-render=\"ok\""), std::string::npos) << reduced_dom.substr(0, 2000);
+  EXPECT_TRUE(std::regex_search(reduced_dom, std::regex("id=\"view-info\">hex boundary: [0-9,]+ quads reduced to "
+                                                        "[0-9,]+ triangles by vertex clustering")))
+      << reduced_dom.substr(reduced_dom.find("view-info"), 400);
+  EXPECT_EQ(log.find(":CONSOLE"), std::string::npos) << log;
 
   // The marker is not set blindly: a page whose geometry is broken reports the error.
   std::string broken = report_html(runs.dthex, runs.options);
