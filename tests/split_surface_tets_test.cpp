@@ -7,11 +7,14 @@
 #include "core/conformity.h"
 #include "core/quality.h"
 #include "core/node_count.h"
+#include "core/coarsen.h"
+#include "core/verify_surface.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <cmath>
 #include <map>
 #include <set>
@@ -298,8 +301,11 @@ TEST(SplitSurfaceTets, LiverWithoutSteinerPointsLosesEveryInteriorBoundaryEdge) 
   for (const auto& t : tets.tets) volume_before += signed_volume(tets, t);
   const SplitSurfaceTetsReport report = split_surface_tets(tets);
   EXPECT_EQ(bad_edges(tets), 0u);
+  EXPECT_EQ(interior_faces_between_boundary_vertices(tets), 0u);
+  EXPECT_EQ(hex_faces_bent_along_the_boundary(thex(tets)), 0u);
   EXPECT_LE(report.split_edges + report.coned_clusters, before);
-  EXPECT_EQ(tets.points.size(), points_before + report.split_edges + report.coned_clusters + report.split_tets);
+  EXPECT_EQ(tets.points.size(),
+            points_before + report.split_edges + report.coned_clusters + report.split_faces + report.split_tets);
   double volume_after = 0;
   for (const auto& t : tets.tets) {
     EXPECT_GT(signed_volume(tets, t), 0);
@@ -307,4 +313,25 @@ TEST(SplitSurfaceTets, LiverWithoutSteinerPointsLosesEveryInteriorBoundaryEdge) 
   }
   EXPECT_NEAR(volume_after, volume_before, 1e-9 * volume_before);
   expect_conforming(tets);
+}
+
+// The shared aneurysm coarsened at the default eps and meshed with the default switches (its
+// coarse boundary has a vertex whose three faces are one tet's, the case of the bipyramid
+// above): after the split no interior edge or face joins only boundary vertices, and no
+// hex face of its THex is bent between two boundary edges.
+TEST(SplitSurfaceTets, CoarseAneurysmHasNoHexFaceBentAlongTheBoundary) {
+  const std::string path = DTHEX_SHARED_DIR "/meshes/aneurysm.off";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "no shared meshes";
+  TriSurface surface = read_surface(path);
+  verify_surface(surface, path);
+  TriSurface coarse = coarsen(surface).surface;
+  verify_surface(coarse, "coarse");
+  TetMesh tets = tetrahedralize(coarse);
+  split_surface_tets(tets);
+  EXPECT_EQ(interior_faces_between_boundary_vertices(tets), 0u);
+  for (const auto& t : tets.tets) EXPECT_GT(signed_volume(tets, t), 0);
+  expect_conforming(tets);
+  const HexMesh hexes = thex(tets);
+  EXPECT_TRUE(check_conformity(hexes).conforming());
+  EXPECT_EQ(hex_faces_bent_along_the_boundary(hexes), 0u);
 }
