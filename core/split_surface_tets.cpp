@@ -199,8 +199,9 @@ size_t split_interior_boundary_edges(TetMesh& mesh, const std::vector<char>& on_
 // plane, and the two hexes sharing the face both have their third edge going inside: they
 // cannot both be positive there, whatever the untangler does. After the split every face
 // through two of those vertices has the new interior point as its third. Every tet with two
-// boundary faces has such a face or an interior edge between boundary vertices (the edge
-// opposite the shared one), so this also takes those tets apart. Returns the faces split.
+// or three boundary faces has such a face or an interior edge between boundary vertices (the
+// edge opposite two faces' shared one), so after the splits only a tet that is a whole
+// component has two boundary faces. Returns the faces split.
 size_t split_interior_boundary_faces(TetMesh& mesh, const std::vector<char>& on_boundary) {
   std::vector<std::array<int, 3>> boundary_keys;
   boundary_keys.reserve(mesh.boundary_faces.size());
