@@ -208,11 +208,13 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
     return count_text("tets", result.tets);
   });
   if (!options.thex_only && options.project) {
-    // Tets with two boundary faces would give hexes that flatten on projection.
+    // Interior edges and faces between boundary vertices would give hexes that cannot all be
+    // valid once the boundary is on the smooth input surface.
     timed_stage(result, progress, "split surface tets", [&] {
       const SplitSurfaceTetsReport split = split_surface_tets(tets);
       result.tets = tets.tets.size();
-      return count_text("tets split", split.split_tets) + ", " + count_text("interior edges split", split.split_edges);
+      return count_text("tets split", split.split_tets) + ", " + count_text("interior edges split", split.split_edges) +
+             ", " + count_text("interior faces split", split.split_faces);
     });
   }
 

@@ -190,6 +190,83 @@ size_t split_interior_boundary_edges(TetMesh& mesh, const std::vector<char>& on_
   return split;
 }
 
+// Splits every interior face whose three vertices are all boundary vertices at its centroid (a
+// new interior vertex), each of the two tets on it into three (a 2-to-6 split). After the edge
+// splits such a face has three boundary edges: the boundary has a triangle of edges there
+// that is not one of its faces. At each corner of that face, two of the face's edges lie on the
+// surface, and so do the two matching edges of the hex corner on either side of the face once
+// the boundary is projected; where the surface is smooth, those two edges span its tangent
+// plane, and the two hexes sharing the face both have their third edge going inside: they
+// cannot both be positive there, whatever the untangler does. After the split every face
+// through two of those vertices has the new interior point as its third. Every tet with two
+// or three boundary faces has such a face or an interior edge between boundary vertices (the
+// edge opposite two faces' shared one), so after the splits only a tet that is a whole
+// component has two boundary faces. Returns the faces split.
+size_t split_interior_boundary_faces(TetMesh& mesh, const std::vector<char>& on_boundary) {
+  std::vector<std::array<int, 3>> boundary_keys;
+  boundary_keys.reserve(mesh.boundary_faces.size());
+  for (const auto& f : mesh.boundary_faces) {
+    std::array<int, 3> key = f;
+    std::sort(key.begin(), key.end());
+    boundary_keys.push_back(key);
+  }
+  std::sort(boundary_keys.begin(), boundary_keys.end());
+  std::vector<std::array<int, 3>> candidates;
+  for (const auto& t : mesh.tets) {
+    if (std::count_if(t.begin(), t.end(), [&](int v) { return on_boundary[size_t(v)] != 0; }) < 3) continue;
+    for (int skip = 0; skip < 4; ++skip) {
+      std::array<int, 3> key{};
+      for (int i = 0, k = 0; i < 4; ++i)
+        if (i != skip) key[size_t(k++)] = t[size_t(i)];
+      std::sort(key.begin(), key.end());
+      if (std::all_of(key.begin(), key.end(), [&](int v) { return on_boundary[size_t(v)] != 0; }) &&
+          !std::binary_search(boundary_keys.begin(), boundary_keys.end(), key))
+        candidates.push_back(key);
+    }
+  }
+  std::sort(candidates.begin(), candidates.end());
+  candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+  if (candidates.empty()) return 0;
+
+  // Tets around each vertex, kept up to date as tets are split.
+  std::vector<std::vector<int>> vertex_tets(mesh.points.size());
+  for (size_t t = 0; t < mesh.tets.size(); ++t)
+    for (int v : mesh.tets[t]) vertex_tets[size_t(v)].push_back(int(t));
+  size_t split = 0;
+  for (const auto& face : candidates) {
+    std::vector<int> around;
+    for (int t : vertex_tets[size_t(face[0])]) {
+      const auto& tet = mesh.tets[size_t(t)];
+      if (std::find(tet.begin(), tet.end(), face[1]) != tet.end() &&
+          std::find(tet.begin(), tet.end(), face[2]) != tet.end())
+        around.push_back(t);
+    }
+    if (around.empty()) continue;
+    ++split;
+    const int m = int(mesh.points.size());
+    mesh.points.push_back((mesh.points[size_t(face[0])] + mesh.points[size_t(face[1])] + mesh.points[size_t(face[2])]) /
+                          3.0);
+    vertex_tets.emplace_back();
+    for (int t : around) {
+      const std::array<int, 4> tet = mesh.tets[size_t(t)];
+      for (int v : tet) {
+        auto& list = vertex_tets[size_t(v)];
+        list.erase(std::remove(list.begin(), list.end(), t), list.end());
+      }
+      // Replacing one corner of the face by a point inside the face keeps the orientation.
+      for (size_t c = 0; c < 3; ++c) {
+        std::array<int, 4> sub = tet;
+        *std::find(sub.begin(), sub.end(), face[c]) = m;
+        const int index = c == 0 ? t : int(mesh.tets.size());
+        if (c == 0) mesh.tets[size_t(t)] = sub;
+        else mesh.tets.push_back(sub);
+        for (int v : sub) vertex_tets[size_t(v)].push_back(index);
+      }
+    }
+  }
+  return split;
+}
+
 }  // namespace
 
 SplitSurfaceTetsReport split_surface_tets(TetMesh& mesh, const SplitSurfaceTetsOptions& options) {
@@ -218,6 +295,10 @@ SplitSurfaceTetsReport split_surface_tets(TetMesh& mesh, const SplitSurfaceTetsO
     }
     report.split_edges = split_interior_boundary_edges(mesh, on_boundary);
     on_boundary.resize(mesh.points.size(), 0);  // so are the edge midpoints
+  }
+  if (options.split_interior_faces) {
+    report.split_faces = split_interior_boundary_faces(mesh, on_boundary);
+    on_boundary.resize(mesh.points.size(), 0);  // and the face centroids
   }
 
   const size_t n_tets = mesh.tets.size();

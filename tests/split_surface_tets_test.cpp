@@ -7,11 +7,15 @@
 #include "core/conformity.h"
 #include "core/quality.h"
 #include "core/node_count.h"
+#include "core/coarsen.h"
+#include "core/verify_surface.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
+#include <cmath>
 #include <map>
 #include <set>
 
@@ -49,7 +53,99 @@ void expect_conforming(const TetMesh& m) {
   }
 }
 
+// Interior faces (not boundary faces) whose three vertices are all boundary vertices.
+size_t interior_faces_between_boundary_vertices(const TetMesh& m) {
+  std::vector<char> on_boundary(m.points.size(), 0);
+  std::set<std::array<int, 3>> boundary;
+  for (const auto& f : m.boundary_faces) {
+    for (int v : f) on_boundary[size_t(v)] = 1;
+    std::array<int, 3> key = f;
+    std::sort(key.begin(), key.end());
+    boundary.insert(key);
+  }
+  std::set<std::array<int, 3>> bad;
+  for (const auto& t : m.tets)
+    for (int skip = 0; skip < 4; ++skip) {
+      std::array<int, 3> key{};
+      for (int i = 0, k = 0; i < 4; ++i)
+        if (i != skip) key[size_t(k++)] = t[size_t(i)];
+      std::sort(key.begin(), key.end());
+      if (on_boundary[size_t(key[0])] && on_boundary[size_t(key[1])] && on_boundary[size_t(key[2])] &&
+          !boundary.count(key))
+        bad.insert(key);
+    }
+  return bad.size();
+}
+
+// Hex faces that are not on the boundary but have two edges of the boundary quad surface
+// meeting at one of their corners. Once the boundary lies on a smooth surface those two
+// edges span its tangent plane at that corner, and the hexes on both sides of the face have
+// their third edge there going inside: one of the two is flat or inverted.
+size_t hex_faces_bent_along_the_boundary(const HexMesh& hexes) {
+  std::vector<std::array<int, 4>> quads;
+  check_conformity(hexes, &quads);
+  std::set<std::pair<int, int>> boundary_edges;
+  std::set<std::array<int, 4>> boundary_quads;
+  for (auto q : quads) {
+    for (int k = 0; k < 4; ++k) boundary_edges.insert(std::minmax(q[size_t(k)], q[size_t((k + 1) % 4)]));
+    std::sort(q.begin(), q.end());
+    boundary_quads.insert(q);
+  }
+  constexpr int kFaces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+  size_t bent = 0;
+  for (const auto& h : hexes.hexes)
+    for (const auto& f : kFaces) {
+      std::array<int, 4> ring{h[size_t(f[0])], h[size_t(f[1])], h[size_t(f[2])], h[size_t(f[3])]};
+      std::array<int, 4> key = ring;
+      std::sort(key.begin(), key.end());
+      if (boundary_quads.count(key)) continue;
+      for (int k = 0; k < 4; ++k)
+        if (boundary_edges.count(std::minmax(ring[size_t((k + 3) % 4)], ring[size_t(k)])) &&
+            boundary_edges.count(std::minmax(ring[size_t(k)], ring[size_t((k + 1) % 4)]))) {
+          ++bent;
+          break;
+        }
+    }
+  return bent;
+}
+
 }  // namespace
+
+// Two tets on one triangle a-b-c (a triangular bipyramid): every edge is a boundary edge and
+// every tet has three boundary faces, but the face a-b-c between them is inside. Splitting
+// each tet at its centroid alone keeps that face, and THex then gives hexes at a, b and c
+// with two edges along the surface and the face between them inside, on both sides. The
+// face split leaves no such face and no such hex face.
+TEST(SplitSurfaceTets, InteriorFaceOfThreeBoundaryEdgesIsSplit) {
+  TetMesh m;
+  const double s = std::sqrt(3.0) / 2;
+  m.points = {Vec3(1, 0, 0), Vec3(-0.5, s, 0), Vec3(-0.5, -s, 0), Vec3(0, 0, 1), Vec3(0, 0, -1)};
+  m.tets = {{0, 1, 2, 3}, {0, 2, 1, 4}};
+  m.boundary_faces = {{0, 1, 3}, {1, 2, 3}, {0, 3, 2}, {0, 2, 4}, {2, 1, 4}, {0, 4, 1}};
+  m.boundary_face_source = {0, 1, 2, 3, 4, 5};
+  ASSERT_EQ(interior_faces_between_boundary_vertices(m), 1u);
+  double volume_before = 0;
+  for (const auto& t : m.tets) volume_before += signed_volume(m, t);
+  const auto faces_before = m.boundary_faces;
+
+  const SplitSurfaceTetsReport report = split_surface_tets(m);
+  EXPECT_EQ(report.split_faces, 1u);
+  EXPECT_EQ(report.split_edges, 0u);
+  EXPECT_EQ(interior_faces_between_boundary_vertices(m), 0u);
+  EXPECT_EQ(m.boundary_faces, faces_before);
+  double volume_after = 0;
+  for (const auto& t : m.tets) {
+    EXPECT_GT(signed_volume(m, t), 0);
+    volume_after += signed_volume(m, t);
+  }
+  EXPECT_NEAR(volume_after, volume_before, 1e-12);
+  expect_conforming(m);
+
+  const HexMesh hexes = thex(m);
+  EXPECT_TRUE(check_conformity(hexes).conforming());
+  EXPECT_EQ(hex_faces_bent_along_the_boundary(hexes), 0u);
+  EXPECT_EQ(measure_hex_quality(hexes).inverted, 0u);
+}
 
 // The icosahedron meshed without Steiner points: after the split the mesh is a
 // valid conforming tet mesh of the same volume, no tet has two boundary faces, and no
@@ -205,8 +301,11 @@ TEST(SplitSurfaceTets, LiverWithoutSteinerPointsLosesEveryInteriorBoundaryEdge) 
   for (const auto& t : tets.tets) volume_before += signed_volume(tets, t);
   const SplitSurfaceTetsReport report = split_surface_tets(tets);
   EXPECT_EQ(bad_edges(tets), 0u);
+  EXPECT_EQ(interior_faces_between_boundary_vertices(tets), 0u);
+  EXPECT_EQ(hex_faces_bent_along_the_boundary(thex(tets)), 0u);
   EXPECT_LE(report.split_edges + report.coned_clusters, before);
-  EXPECT_EQ(tets.points.size(), points_before + report.split_edges + report.coned_clusters + report.split_tets);
+  EXPECT_EQ(tets.points.size(),
+            points_before + report.split_edges + report.coned_clusters + report.split_faces + report.split_tets);
   double volume_after = 0;
   for (const auto& t : tets.tets) {
     EXPECT_GT(signed_volume(tets, t), 0);
@@ -214,4 +313,25 @@ TEST(SplitSurfaceTets, LiverWithoutSteinerPointsLosesEveryInteriorBoundaryEdge) 
   }
   EXPECT_NEAR(volume_after, volume_before, 1e-9 * volume_before);
   expect_conforming(tets);
+}
+
+// The shared aneurysm coarsened at the default eps and meshed with the default switches (its
+// coarse boundary has a vertex whose three faces are one tet's, the case of the bipyramid
+// above): after the split no interior edge or face joins only boundary vertices, and no
+// hex face of its THex is bent between two boundary edges.
+TEST(SplitSurfaceTets, CoarseAneurysmHasNoHexFaceBentAlongTheBoundary) {
+  const std::string path = DTHEX_SHARED_DIR "/meshes/aneurysm.off";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "no shared meshes";
+  TriSurface surface = read_surface(path);
+  verify_surface(surface, path);
+  TriSurface coarse = coarsen(surface).surface;
+  verify_surface(coarse, "coarse");
+  TetMesh tets = tetrahedralize(coarse);
+  split_surface_tets(tets);
+  EXPECT_EQ(interior_faces_between_boundary_vertices(tets), 0u);
+  for (const auto& t : tets.tets) EXPECT_GT(signed_volume(tets, t), 0);
+  expect_conforming(tets);
+  const HexMesh hexes = thex(tets);
+  EXPECT_TRUE(check_conformity(hexes).conforming());
+  EXPECT_EQ(hex_faces_bent_along_the_boundary(hexes), 0u);
 }
