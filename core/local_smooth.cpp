@@ -194,7 +194,9 @@ class NodeSmoother {
 
   // The hexes around v with v at x, into scratch.trial_*; stops early (invalid) when a
   // hex's scaled Jacobian is below `floor`, which no accepted position may do.
-  Score score_at(int v, const Vec3& x, bool need_shape, double floor, Scratch& scratch) const {
+  //! The hexes around v with v at x. Invalid (not evaluated further) if a hex falls below
+  //! `floor`, or, with `keep_valid`, if a hex valid now falls below min(its value, target).
+  Score score_at(int v, const Vec3& x, bool need_shape, double floor, bool keep_valid, Scratch& scratch) const {
     Score s;
     s.min_sj = 1;
     s.min_shape = 1;
@@ -210,6 +212,13 @@ class NodeSmoother {
         q = need_shape ? hex_scaled_jacobian_and_shape(corners) : HexScaledJacobianAndShape{hex_scaled_jacobian(corners), 0};
       }
       if (q.scaled_jacobian < floor) return s;
+      // Around an inverted hex the floor is negative, and a move that keeps the worst hex and
+      // raises the clipped sum could otherwise trade a valid hex for an inverted one: move
+      // after move, nodes of a tangled region (skull_hollow) walked across the mesh.
+      if (keep_valid) {
+        const double now = sj_[size_t(hexes[k].hex)];
+        if (now > 0 && q.scaled_jacobian < std::min(now, options_.target_scaled_jacobian)) return s;
+      }
       s.min_sj = std::min(s.min_sj, q.scaled_jacobian);
       s.clipped_sj_sum += std::min(q.scaled_jacobian, options_.target_scaled_jacobian);
       s.shape_sum += q.shape;
@@ -349,7 +358,7 @@ class NodeSmoother {
       for (double t : {1.0, 0.5}) {
         Vec3 y;
         if (!landing(v, x, t * d, normal, y)) continue;
-        const Score s = score_at(v, y, need_shape, floor_for(current, true), scratch);
+        const Score s = score_at(v, y, need_shape, floor_for(current, true), current.min_sj <= 0, scratch);
         if (better(s, current, true, hexes.size())) {
           accept(y, s);
           break;
@@ -387,7 +396,7 @@ class NodeSmoother {
           Vec3 y;
           ++trials;
           if (!landing(v, x, step * directions[dir], normal, y)) continue;
-          const Score s = score_at(v, y, need_shape, floor_for(current, shape_pass), scratch);
+          const Score s = score_at(v, y, need_shape, floor_for(current, shape_pass), current.min_sj <= 0, scratch);
           if (better(s, current, shape_pass, hexes.size())) {
             accept(y, s);
             improved = true;
@@ -400,7 +409,7 @@ class NodeSmoother {
     }
     if (!moved) return false;
     if (!scratch.best_has_shape) {
-      score_at(v, x, true, -2, scratch);
+      score_at(v, x, true, -2, false, scratch);
       std::swap(scratch.trial_sj, scratch.best_sj);
       std::swap(scratch.trial_shape, scratch.best_shape);
     }
