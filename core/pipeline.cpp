@@ -233,8 +233,12 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
 
   if (!options.thex_only && options.project) {
     timed_stage(result, progress, "project", [&] {
-      project_boundary(result.hexes, result.coarse, result.input, input_bvh);
-      return count_text("nodes", result.hexes.nodes.size());
+      const ProjectReport report = project_boundary(result.hexes, result.coarse, result.input, input_bvh);
+      std::ostringstream out;
+      out << report.projected_nodes << " boundary nodes projected (largest move " << report.max_displacement << ")";
+      if (report.far_nodes) out << ", " << report.far_nodes << " beyond their facet's reach";
+      if (report.unconstrained_nodes) out << ", " << report.unconstrained_nodes << " with no surface facing their way";
+      return out.str();
     });
     timed_stage(result, progress, "untangle", [&] {
       UntangleOptions untangle_options;
