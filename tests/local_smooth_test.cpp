@@ -105,3 +105,29 @@ TEST(LocalSmooth, ColouredSweepsAreDeterministic) {
   EXPECT_GE(q.scaled_jacobian_stats.min, std::min(before, LocalSmoothOptions{}.target_scaled_jacobian) - 1e-12);
   EXPECT_GT(q.shape_stats.avg, start_quality.shape_stats.avg + 0.01);
 }
+
+// Around an inverted hex the smoother's floor is negative. It may still never turn a valid
+// hex into an inverted one or push it below min(its value, target): moves that only kept the
+// worst hex once walked nodes of a tangled region far across the mesh.
+TEST(LocalSmooth, ValidHexesStayValidAroundAnInvertedOne) {
+  const TriSurface box = box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), 8);
+  const TriangleBvh bvh(box);
+  HexMesh mesh = perturbed_block(box, 8, 0.3);
+  // Two interior nodes pushed through their neighbours: a cluster of inverted hexes the
+  // smoother alone cannot repair.
+  for (int node : {(3 * 9 + 3) * 9 + 3, (4 * 9 + 4) * 9 + 5}) {
+    ASSERT_FALSE(mesh.is_boundary_node(node));
+    mesh.nodes[size_t(node)] += Vec3(0.21, 0.19, 0.2);
+  }
+  const HexQuality before = measure_hex_quality(mesh);
+  ASSERT_GT(before.inverted, 0u);
+  smooth_worst_hexes(mesh, bvh);
+  const HexQuality after = measure_hex_quality(mesh);
+  const double target = LocalSmoothOptions{}.target_scaled_jacobian;
+  size_t lowered = 0;
+  for (size_t h = 0; h < mesh.hexes.size(); ++h)
+    if (before.scaled_jacobian[h] > 0 && after.scaled_jacobian[h] < std::min(before.scaled_jacobian[h], target) - 1e-12)
+      ++lowered;
+  EXPECT_EQ(lowered, 0u);
+  EXPECT_LE(after.inverted, before.inverted);
+}
