@@ -239,7 +239,13 @@ class Untangler {
     constexpr double kInverted = 1e-6;  // with a margin: Verdict calls a hex inverted at SJ <= 0
     // 1. Inverted hexes first, interior nodes only, then with the boundary sliding.
     const int fixed_rounds = options_.slide_boundary ? options_.fixed_boundary_rounds : options_.max_rounds;
+    // The interior-only repair gives up on a part whose worst frame cannot become valid in
+    // the rounds left at its present pace: the sliding repair that follows undoes such a
+    // fold in a few rounds, where the fixed boundary spent all its rounds on the femur's
+    // three hopeless parts (a fifth of the untangler's time) and still left them inverted.
+    give_up_hopeless_ = options_.slide_boundary;
     repair(kInverted, false, fixed_rounds);
+    give_up_hopeless_ = false;
     for (int phase = 0; phase < options_.max_boundary_phases && options_.slide_boundary && !report.time_limit_reached;
          ++phase)
       if (!repair(kInverted, true, options_.max_rounds)) break;
@@ -454,6 +460,7 @@ class Untangler {
         return keep_valid && dm <= 0 ? kInf : e;
       };
       const double e_prev = evaluate(ph, z, nullptr, eps, &detmin);
+      const double detmin_before = detmin;
       bool timed_out = false;
       minimize_lbfgs(z, energy, max_iterations, deadline_, timed_out);
       apply(ph, z);
@@ -473,6 +480,9 @@ class Untangler {
       // regularization has done its job and the energy becomes a barrier at once.
       eps = detmin > 0 ? 1e-10 : detmin < mu ? 2.0 * std::sqrt(mu * (mu - detmin)) : 1e-10;
       if (detmin > 0 && std::abs(e_prev - e) <= 1e-5 * std::abs(e)) break;
+      if (give_up_hopeless_ && detmin <= 0 && round >= 2 &&
+          detmin + (detmin - detmin_before) * (max_rounds - 1 - round) < 0)
+        break;
     }
     apply(ph, z);
     // var_offset_ is -1 everywhere between problems: a neighbouring problem solved at the
@@ -624,6 +634,7 @@ class Untangler {
   std::vector<char> in_region_;          //!< scratch of grow_region, all zero between calls
   std::vector<int> var_offset_;          //!< per node: first variable, -1 if it does not move
   std::vector<Vec3> pos_;
+  bool give_up_hopeless_ = false;  //!< see run(): set only between parallel sections
   std::vector<Vec3> base_, tangent1_, tangent2_;
 };
 
