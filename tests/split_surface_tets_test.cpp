@@ -23,6 +23,14 @@ using namespace dthex;
 
 namespace {
 
+//! A bundled mesh tet-meshed without Steiner points: every tet has all its vertices on the
+//! boundary, the hardest case for the split.
+TetMesh tets_without_steiner_points(const std::string& mesh) {
+  TetgenOptions options;
+  options.switches = "pY";
+  return tetrahedralize(read_surface(std::string(DTHEX_SOURCE_DIR "/meshes/") + mesh), options);
+}
+
 double signed_volume(const TetMesh& m, const std::array<int, 4>& t) {
   const Vec3& a = m.points[size_t(t[0])];
   return (m.points[size_t(t[1])] - a).dot((m.points[size_t(t[2])] - a).cross(m.points[size_t(t[3])] - a)) / 6.0;
@@ -151,10 +159,7 @@ TEST(SplitSurfaceTets, InteriorFaceOfThreeBoundaryEdgesIsSplit) {
 // valid conforming tet mesh of the same volume, no tet has two boundary faces, and no
 // interior edge joins two boundary vertices.
 TEST(SplitSurfaceTets, IcosahedronStaysConformingWithoutFlatCornerTets) {
-  const TriSurface surface = read_surface(DTHEX_SOURCE_DIR "/meshes/icosahedron.off");
-  TetgenOptions options;
-  options.switches = "pY";  // no Steiner points: every tet has all its vertices on the boundary
-  TetMesh tets = tetrahedralize(surface, options);
+  TetMesh tets = tets_without_steiner_points("icosahedron.off");
   double volume_before = 0;
   for (const auto& t : tets.tets) volume_before += signed_volume(tets, t);
   const auto faces_before = tets.boundary_faces;
@@ -230,10 +235,7 @@ TEST(SplitSurfaceTets, SingleTetSplitsIntoFour) {
 // replaces them: the paper's 20 tets around the centre (Fig. 19), whose THex diced by 3
 // has the paper's 2473 nodes, not 45 tets from six midpoint splits.
 TEST(SplitSurfaceTets, IcosahedronClusterBecomesTwentyTetsAroundTheCentre) {
-  const TriSurface surface = read_surface(DTHEX_SOURCE_DIR "/meshes/icosahedron.off");
-  TetgenOptions options;
-  options.switches = "pY";
-  TetMesh tets = tetrahedralize(surface, options);
+  TetMesh tets = tets_without_steiner_points("icosahedron.off");
   ASSERT_EQ(tets.points.size(), 12u);
   const SplitSurfaceTetsReport report = split_surface_tets(tets);
   EXPECT_EQ(report.coned_clusters, 1u);
@@ -254,10 +256,7 @@ TEST(SplitSurfaceTets, IcosahedronClusterBecomesTwentyTetsAroundTheCentre) {
 
 // Without the cone (option off) the same cluster is split edge by edge: more tets.
 TEST(SplitSurfaceTets, WithoutConesTheIcosahedronGetsMidpointSplits) {
-  const TriSurface surface = read_surface(DTHEX_SOURCE_DIR "/meshes/icosahedron.off");
-  TetgenOptions options;
-  options.switches = "pY";
-  TetMesh tets = tetrahedralize(surface, options);
+  TetMesh tets = tets_without_steiner_points("icosahedron.off");
   SplitSurfaceTetsOptions split;
   split.cone_edge_clusters = false;
   const SplitSurfaceTetsReport report = split_surface_tets(tets, split);
@@ -272,10 +271,7 @@ TEST(SplitSurfaceTets, WithoutConesTheIcosahedronGetsMidpointSplits) {
 // boundary faces, the mesh is conforming with the same volume, and each such edge cost at
 // most one new point (a cone apex or a midpoint), never one for an edge that was not there.
 TEST(SplitSurfaceTets, LiverWithoutSteinerPointsLosesEveryInteriorBoundaryEdge) {
-  const TriSurface surface = read_surface(DTHEX_SOURCE_DIR "/meshes/liver.off");
-  TetgenOptions options;
-  options.switches = "pY";
-  TetMesh tets = tetrahedralize(surface, options);
+  TetMesh tets = tets_without_steiner_points("liver.off");
   std::vector<char> on_boundary(tets.points.size(), 0);
   std::set<std::pair<int, int>> boundary_edges;
   for (const auto& f : tets.boundary_faces)
