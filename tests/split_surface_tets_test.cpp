@@ -36,16 +36,22 @@ double signed_volume(const TetMesh& m, const std::array<int, 4>& t) {
   return (m.points[size_t(t[1])] - a).dot((m.points[size_t(t[2])] - a).cross(m.points[size_t(t[3])] - a)) / 6.0;
 }
 
+// The face of tet t opposite its vertex `skip`, vertices sorted: a key for matching faces.
+std::array<int, 3> sorted_face(const std::array<int, 4>& t, int skip) {
+  std::array<int, 3> key{};
+  for (int i = 0, k = 0; i < 4; ++i)
+    if (i != skip) key[size_t(k++)] = t[size_t(i)];
+  std::sort(key.begin(), key.end());
+  return key;
+}
+
 // Every interior triangle is shared by exactly two tets with opposite orientation, every
 // boundary face by one: the tet mesh is conforming and its boundary is the given faces.
 void expect_conforming(const TetMesh& m) {
   std::map<std::array<int, 3>, int> uses;
   for (const auto& t : m.tets)
     for (int skip = 0; skip < 4; ++skip) {
-      std::array<int, 3> key{};
-      for (int i = 0, k = 0; i < 4; ++i)
-        if (i != skip) key[size_t(k++)] = t[size_t(i)];
-      std::sort(key.begin(), key.end());
+      const std::array<int, 3> key = sorted_face(t, skip);
       ++uses[key];
     }
   size_t boundary = 0;
@@ -74,10 +80,7 @@ size_t interior_faces_between_boundary_vertices(const TetMesh& m) {
   std::set<std::array<int, 3>> bad;
   for (const auto& t : m.tets)
     for (int skip = 0; skip < 4; ++skip) {
-      std::array<int, 3> key{};
-      for (int i = 0, k = 0; i < 4; ++i)
-        if (i != skip) key[size_t(k++)] = t[size_t(i)];
-      std::sort(key.begin(), key.end());
+      const std::array<int, 3> key = sorted_face(t, skip);
       if (on_boundary[size_t(key[0])] && on_boundary[size_t(key[1])] && on_boundary[size_t(key[2])] &&
           !boundary.count(key))
         bad.insert(key);
@@ -192,10 +195,7 @@ TEST(SplitSurfaceTets, IcosahedronStaysConformingWithoutFlatCornerTets) {
   for (const auto& t : tets.tets) {
     int boundary_faces = 0;
     for (int skip = 0; skip < 4; ++skip) {
-      std::array<int, 3> key{};
-      for (int i = 0, k = 0; i < 4; ++i)
-        if (i != skip) key[size_t(k++)] = t[size_t(i)];
-      std::sort(key.begin(), key.end());
+      const std::array<int, 3> key = sorted_face(t, skip);
       boundary_faces += std::binary_search(keys.begin(), keys.end(), key);
     }
     EXPECT_LT(boundary_faces, 2);
