@@ -32,7 +32,7 @@ struct CoarsenOptions {
   //! No collapse may leave a triangle facing more than this (degrees) away from the input
   //! surface under its centroid, and further than before (180: no such check). Without it,
   //! judged after smoothing, spot's coarse surface folded where the head narrows (one
-  //! triangle 103 degrees off) and the hexes there stayed inverted after projection.
+  //! triangle 116 degrees off) and the hexes there stayed inverted after projection.
   double max_surface_deviation_deg = 60.0;
   //! Self-intersections found in the result are repaired by re-running with the sizing
   //! halved around them (the last extra run keeps the input vertices there instead); at

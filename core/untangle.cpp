@@ -325,8 +325,8 @@ class Untangler {
   }
 
   //! `nodes` (sorted) split into sets that share no hex, each sorted; a connected set of
-  //! more than `max_nodes` is cut into pieces of that many grown breadth-first, solved one
-  //! after the other (each sees where the previous ones moved their nodes).
+  //! more than `max_nodes` is cut into pieces of that many grown breadth-first (solve_parts
+  //! solves neighbouring pieces one after the other, so each sees where the other moved).
   std::vector<std::vector<size_t>> connected_parts(const std::vector<size_t>& nodes, size_t max_nodes) {
     std::vector<std::vector<size_t>> parts;
     in_region_.resize(mesh_.nodes.size(), 0);

@@ -30,8 +30,8 @@ struct UntangleOptions {
   int smoothing_iterations = 30;
   //! It moves the interior nodes of hexes whose shape is below this and of the hexes within
   //! `smoothing_rings` rings of them (threshold 1 or more: every interior node), in pieces of
-  //! at most `smoothing_part_nodes` nodes grown breadth-first and solved one after the
-  //! other. Over the whole mesh at once one near-flat frame limited every step (60
+  //! at most `smoothing_part_nodes` nodes grown breadth-first; pieces that share no hex are
+  //! solved at the same time on all cores, neighbours one after the other. Over the whole mesh at once one near-flat frame limited every step (60
   //! iterations took the liver's average shape from 0.615 to 0.638, 5 s); in pieces of 500
   //! nodes around the hexes below 0.4, 30 iterations reach 0.669 in a quarter of the time.
   double smoothing_shape_threshold = 0.4;

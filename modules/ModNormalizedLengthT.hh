@@ -65,7 +65,7 @@ class ModNormalizedLengthT : public OpenMesh::Decimater::ModBaseT<MeshT> {
   //! `max_deg` away from the input surface at the triangle's centroid, and further than it
   //! did before. The per-collapse normal bound compares a triangle with its previous self
   //! only, so turns can add up over many collapses; judged after smoothing, spot's coarse
-  //! surface ended with a triangle 103 degrees off the input where the head narrows, and
+  //! surface ended with a triangle 116 degrees off the input where the head narrows, and
   //! the hexes there stayed inverted after projection.
   void set_surface_normal(SurfaceNormal surface_normal, double max_deg) {
     surface_normal_ = std::move(surface_normal);
