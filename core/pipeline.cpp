@@ -79,6 +79,7 @@ CoarsenOptions coarsen_options_for(const PipelineOptions& options, double eps) {
   c.h_min = options.h_min;
   c.h_max = options.h_max;
   c.max_normalized_length = options.max_edge_ratio;
+  c.max_size_per_thickness = options.thickness_ratio;
   c.global_smoothing = options.global_smoothing;
   c.judge_after_smoothing = options.judge_after_smoothing;
   return c;
@@ -187,7 +188,10 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
       coarsen_options.progress = [&](double f) { progress.update(f); };
       CoarsenResult coarse = coarsen(result.input, coarsen_options);
       result.coarse = std::move(coarse.surface);
-      return count_text("triangles", result.coarse.triangles.size());
+      std::string detail = count_text("triangles", result.coarse.triangles.size());
+      if (coarse.thin_wall_vertices)
+        detail += " (" + count_text("input vertices", coarse.thin_wall_vertices) + " sized by wall thickness)";
+      return detail;
     });
     timed_stage(result, progress, "verify coarse", [&] {
       // The guard in front of TetGen: a self-intersecting coarse surface would crash it.

@@ -92,6 +92,7 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
                   {"target_nodes", o.target_nodes},
                   {"dice", o.dice},
                   {"h_max", o.h_max},
+                  {"thickness_ratio", o.thickness_ratio},
                   {"thex_only", o.thex_only},
                   {"project", o.project},
                   {"strict", o.strict},

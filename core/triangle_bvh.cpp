@@ -198,14 +198,19 @@ TriangleBvh::ClosestPoint TriangleBvh::closest_point(const Vec3& q,
   return search(q, accept ? &accept : nullptr, -1);
 }
 
+TriangleBvh::ClosestPoint TriangleBvh::closest_point_within(const Vec3& q, double max_distance,
+                                                            const std::function<bool(int)>& accept) const {
+  return search(q, accept ? &accept : nullptr, -1, max_distance * max_distance);
+}
+
 TriangleBvh::ClosestPoint TriangleBvh::closest_point_near(const Vec3& q, int hint) const {
   return search(q, nullptr, hint);
 }
 
-TriangleBvh::ClosestPoint TriangleBvh::search(const Vec3& q, const std::function<bool(int)>* accept,
-                                              int hint) const {
+TriangleBvh::ClosestPoint TriangleBvh::search(const Vec3& q, const std::function<bool(int)>* accept, int hint,
+                                              double max_distance_sq) const {
   ClosestPoint best;
-  best.distance_sq = std::numeric_limits<double>::infinity();
+  best.distance_sq = max_distance_sq;
   if (nodes_.empty()) {
     best.distance_sq = 0;
     return best;

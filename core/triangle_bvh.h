@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 #include <functional>
+#include <limits>
 
 namespace dthex {
 
@@ -27,6 +28,9 @@ class TriangleBvh {
   //! Closest point among the triangles for which accept(triangle) is true
   //! (e.g. only triangles whose normal faces the same way as a coarse facet).
   ClosestPoint closest_point(const Vec3& q, const std::function<bool(int)>& accept) const;
+  //! Closest accepted point no further than `max_distance` from q (triangle -1 if there is
+  //! none): the search never leaves that ball, however far the nearest accepted triangle is.
+  ClosestPoint closest_point_within(const Vec3& q, double max_distance, const std::function<bool(int)>& accept) const;
   //! Closest point of the whole surface to q, starting from triangle `hint` (e.g. the
   //! answer for a nearby point): its distance bounds the search, so coherent query
   //! sequences visit far fewer boxes. The distance found does not depend on the hint.
@@ -44,7 +48,8 @@ class TriangleBvh {
   const Eigen::AlignedBox3d& bounds() const;
 
  private:
-  ClosestPoint search(const Vec3& q, const std::function<bool(int)>* accept, int hint) const;
+  ClosestPoint search(const Vec3& q, const std::function<bool(int)>* accept, int hint,
+                      double max_distance_sq = std::numeric_limits<double>::infinity()) const;
 
   struct Node {
     Eigen::AlignedBox3d box;

@@ -40,7 +40,7 @@ TEST(Cli, HelpExplainsEveryOption) {
   const fs::path dir = scratch("help");
   const CommandRun r = om_dthex("--help", dir);
   EXPECT_EQ(r.exit_code, 0);
-  for (const char* option : {"--output", "--eps", "--dice", "--hmax", "--thex-only", "--no-project", "--strict",
+  for (const char* option : {"--output", "--eps", "--dice", "--hmax", "--thickness-ratio", "--thex-only", "--no-project", "--strict",
                              "--tetgen", "--time-limit", "--report", "--coarse-surface", "--quiet", "--verbose"})
     EXPECT_NE(r.out.find(option), std::string::npos) << option;
 }
@@ -61,7 +61,8 @@ TEST(Cli, BadOptionValuesAreExit2NamingTheOption) {
     std::string args, option;
   };
   for (const Case& c : {Case{"--eps -0.1", "--eps"}, Case{"--eps 1", "--eps"}, Case{"--eps abc", "--eps"},
-                        Case{"--dice 0", "--dice"}, Case{"--hmax -1", "--hmax"}, Case{"--time-limit 0", "--time-limit"}}) {
+                        Case{"--dice 0", "--dice"}, Case{"--hmax -1", "--hmax"}, Case{"--thickness-ratio -1", "--thickness-ratio"},
+                        Case{"--time-limit 0", "--time-limit"}}) {
     const CommandRun r = om_dthex(in + out + " " + c.args, dir);
     EXPECT_EQ(r.exit_code, 2) << c.args;
     EXPECT_NE(r.err.find(c.option), std::string::npos) << c.args << ": " << r.err;

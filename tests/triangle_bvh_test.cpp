@@ -111,6 +111,34 @@ TEST(TriangleBvh, AcceptFilterRestrictsTheSearch) {
   EXPECT_EQ(none.triangle, -1);
 }
 
+TEST(TriangleBvh, SearchWithinARadiusFindsWhatIsInsideAndNothingElse) {
+  const TriSurface sphere = uv_sphere(20, 32);
+  const TriangleBvh bvh(sphere);
+  auto lower = [&](int t) {
+    const auto& tri = sphere.triangles[size_t(t)];
+    return (sphere.points[size_t(tri[0])] + sphere.points[size_t(tri[1])] + sphere.points[size_t(tri[2])]).z() < 0;
+  };
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-1.5, 1.5), radius(0.05, 2.0);
+  int inside = 0, outside = 0;
+  for (int i = 0; i < 300; ++i) {
+    const Vec3 q(u(rng), u(rng), u(rng));
+    const double r = radius(rng);
+    const double nearest = brute_distance_sq(sphere, q, nullptr, lower);
+    const auto hit = bvh.closest_point_within(q, r, lower);
+    if (nearest < r * r) {
+      ++inside;
+      ASSERT_GE(hit.triangle, 0);
+      EXPECT_EQ(hit.distance_sq, nearest);
+    } else {
+      ++outside;
+      EXPECT_EQ(hit.triangle, -1) << "nothing accepted lies within " << r << " of " << q.transpose();
+    }
+  }
+  EXPECT_GT(inside, 30);
+  EXPECT_GT(outside, 30);
+}
+
 TEST(TriangleBvh, OverlappingPairsEqualBruteForce) {
   // A small sphere plus a shifted copy so pairs also cross between the two bodies.
   TriSurface s = uv_sphere(6, 9);

@@ -1,0 +1,101 @@
+// SPDX-License-Identifier: MIT
+#include "core/coarsen.h"
+#include "core/read_surface.h"
+#include "core/wall_thickness.h"
+#include "boundary_fixtures.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+using namespace dthex;
+using dthex::testing::box_surface;
+
+namespace {
+
+std::vector<double> radii(const TriSurface& s, double start) {
+  const TriangleBvh bvh(s);
+  return inner_wall_radii(s, bvh, std::vector<double>(s.points.size(), start));
+}
+
+TriSurface flipped(TriSurface s) {
+  for (auto& t : s.triangles) std::swap(t[1], t[2]);
+  return s;
+}
+
+double longest_edge(const TriSurface& s) {
+  double longest = 0;
+  for (const auto& t : s.triangles)
+    for (int i = 0; i < 3; ++i)
+      longest = std::max(longest, (s.points[size_t(t[size_t(i)])] - s.points[size_t(t[size_t((i + 1) % 3)])]).norm());
+  return longest;
+}
+
+}  // namespace
+
+TEST(WallThickness, SlabMeasuresHalfItsThicknessInsideAndTheStartWhereThatIsSmaller) {
+  const TriSurface slab = box_surface(Vec3(0, 0, 0), Vec3(10, 10, 0.5), 20);
+  for (const TriSurface& s : {slab, flipped(slab)}) {
+    const std::vector<double> r = radii(s, 100.0), small = radii(s, 0.1);
+    size_t checked = 0;
+    for (size_t v = 0; v < s.points.size(); ++v) {
+      const Vec3& p = s.points[v];
+      if (p.x() < 2 || p.x() > 8 || p.y() < 2 || p.y() > 8) continue;  // away from the rim
+      EXPECT_NEAR(r[v], 0.25, 1e-9) << "vertex " << v;
+      EXPECT_EQ(small[v], 0.1) << "a ball thinner than the wall is already empty";
+      ++checked;
+    }
+    EXPECT_GT(checked, 100u);
+  }
+}
+
+TEST(WallThickness, ConvexEdgesOfACubeDoNotShrinkTheBall) {
+  // Along an edge the ball leans on the two neighbouring faces long before it reaches the
+  // opposite ones; counting them would size every feature line of a CAD part down to its
+  // first ring. Only the opposite faces count: the ball along the bisector of an edge stops
+  // at 1 / (1 + 1/sqrt 2) = 0.586, at a face centre at 0.5.
+  const TriSurface cube = box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), 8);
+  const std::vector<double> r = radii(cube, 10.0);
+  for (size_t v = 0; v < cube.points.size(); ++v) {
+    const Vec3& p = cube.points[v];
+    int on_faces = 0;
+    for (int c = 0; c < 3; ++c) on_faces += (std::abs(p[c]) < 1e-12 || std::abs(p[c] - 1) < 1e-12);
+    if (on_faces == 2) EXPECT_NEAR(r[v], 1.0 / (1.0 + 1.0 / std::sqrt(2.0)), 1e-9) << "edge vertex " << v;
+    if (on_faces == 1 && std::abs(p.x() - 0.5) + std::abs(p.y() - 0.5) + std::abs(p.z() - 0.5) < 0.5 + 1e-12)
+      EXPECT_NEAR(r[v], 0.5, 1e-9) << "face-centre vertex " << v;
+  }
+}
+
+TEST(WallThickness, SphereMeasuresItsRadius) {
+  const TriSurface sphere = read_surface(std::string(DTHEX_SOURCE_DIR) + "/meshes/sphere728.off");
+  Vec3 centre = Vec3::Zero();
+  for (const Vec3& p : sphere.points) centre += p;
+  centre /= double(sphere.points.size());
+  double radius = 0;
+  for (const Vec3& p : sphere.points) radius += (p - centre).norm();
+  radius /= double(sphere.points.size());
+  const std::vector<double> r = radii(sphere, 10 * radius);
+  // Within 4%: the triangles are chords inside the sphere and the vertex normals tilt a
+  // little, so the ball leans on a point slightly inside the true sphere.
+  for (size_t v = 0; v < r.size(); ++v) EXPECT_NEAR(r[v], radius, 0.04 * radius) << "vertex " << v;
+}
+
+TEST(WallThickness, CoarseningSizesAThinWallByItsThickness) {
+  // A 10 x 10 plate 0.5 thick: flat, so curvature alone allows triangles as wide as the plate.
+  const TriSurface slab = box_surface(Vec3(0, 0, 0), Vec3(10, 10, 0.5), 20);
+  CoarsenOptions curvature_only;
+  curvature_only.max_size_per_thickness = 0;
+  CoarsenOptions by_thickness;
+  by_thickness.max_size_per_thickness = 1;
+  const CoarsenResult wide = coarsen(slab, curvature_only), thin = coarsen(slab, by_thickness);
+  EXPECT_EQ(wide.thin_wall_vertices, 0u);
+  // At least every vertex inside the two big faces (2 x 19 x 19); the rim's normals lean
+  // sideways and some of its vertices see no opposite wall.
+  EXPECT_GE(thin.thin_wall_vertices, 2u * 19 * 19);
+  EXPECT_GT(longest_edge(wide.surface), 3.0);
+  // Sizes 0.5 and new edges below sqrt(2) sizes; the input's own edges (0.5 and 0.71 on the
+  // faces, 0.5 and 0.51 on the sides) are kept where nothing shorter was to collapse.
+  EXPECT_LT(longest_edge(thin.surface), 0.75);
+  EXPECT_GT(thin.surface.points.size(), 2 * wide.surface.points.size());
+}
