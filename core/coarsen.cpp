@@ -237,23 +237,25 @@ RunOutput run_once(const SurfaceMesh& input_mesh, const TriSurface& input, const
   return out;
 }
 
-//! Lowers the sizes where the wall is thinner than size / max_size_per_thickness (never
-//! below h_min), then restores the gradation. Returns how many sizes were lowered.
+//! The input vertices on a wall thinner than h / ratio (never counting one whose size
+//! would stay at h_min); with `apply`, their sizes become ratio x the thickness and the
+//! gradation is restored.
 size_t cap_by_wall_thickness(const TriSurface& input, const SurfaceMesh& input_mesh, const TriangleBvh& input_bvh,
-                             const CoarsenOptions& options, double h_min, std::vector<double>& h) {
-  const double ratio = options.max_size_per_thickness;
+                             double ratio, double gradation, double h_min, bool apply, std::vector<double>& h) {
   // Only "is the wall thinner than h / ratio here?" matters: the search starts at that
   // ball (radius half of it), and an empty one costs a single query.
   std::vector<double> start(h.size());
   for (size_t v = 0; v < h.size(); ++v) start[v] = h[v] / (2 * ratio);
   const std::vector<double> radius = inner_wall_radii(input, input_bvh, start);
-  size_t lowered = 0;
+  size_t thin = 0;
   for (size_t v = 0; v < h.size(); ++v) {
     const double cap = std::max(h_min, 2 * ratio * radius[v]);
-    if (cap < h[v]) h[v] = cap, ++lowered;
+    if (!(cap < h[v])) continue;
+    ++thin;
+    if (apply) h[v] = cap;
   }
-  if (lowered) limit_gradation(input_mesh, h, options.gradation);
-  return lowered;
+  if (apply && thin) limit_gradation(input_mesh, h, gradation);
+  return thin;
 }
 
 }  // namespace
@@ -285,8 +287,10 @@ CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options) {
   std::tie(result.h_min, result.h_max) = sizing_bounds(input_mesh, sizing);
   std::vector<double> h = curvature_sizing(input_mesh, sizing);
   const TriangleBvh input_bvh(input);
-  if (options.max_size_per_thickness > 0)
-    result.thin_wall_vertices = cap_by_wall_thickness(input, input_mesh, input_bvh, options, result.h_min, h);
+  const bool by_thickness = options.max_size_per_thickness > 0;
+  result.thin_wall_vertices = cap_by_wall_thickness(input, input_mesh, input_bvh,
+                                                    by_thickness ? options.max_size_per_thickness : 1.0,
+                                                    options.gradation, result.h_min, by_thickness, h);
   const Features features = detect_features(input, options.feature_angle_deg);
   result.feature_edges = features.edges.size();
   result.feature_corners = features.corners.size();

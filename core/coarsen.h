@@ -58,7 +58,10 @@ struct CoarsenResult {
   size_t global_smoothing_iterations = 0;
   size_t feature_edges = 0, feature_corners = 0;  //!< on the input
   int repair_rounds = 0;          //!< extra runs needed to remove self-intersections
-  size_t thin_wall_vertices = 0;  //!< input vertices whose size the wall thickness lowered
+  //! Input vertices on a wall thinner than their curvature size over max_size_per_thickness
+  //! (over 1 when that is off): their sizes were lowered when it is on, only counted when it
+  //! is off (a run can then suggest it).
+  size_t thin_wall_vertices = 0;
   double h_min = 0, h_max = 0;    //!< bounds actually used
   double seconds = 0;             //!< wall time of coarsen()
 };

@@ -189,8 +189,10 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
       CoarsenResult coarse = coarsen(result.input, coarsen_options);
       result.coarse = std::move(coarse.surface);
       std::string detail = count_text("triangles", result.coarse.triangles.size());
+      result.thin_wall_vertices = coarse.thin_wall_vertices;
       if (coarse.thin_wall_vertices)
-        detail += " (" + count_text("input vertices", coarse.thin_wall_vertices) + " sized by wall thickness)";
+        detail += " (" + count_text("input vertices", coarse.thin_wall_vertices) +
+                  (options.thickness_ratio > 0 ? " sized by wall thickness)" : " on walls thinner than their size)");
       return detail;
     });
     timed_stage(result, progress, "verify coarse", [&] {

@@ -80,6 +80,12 @@ std::string summary_table(const PipelineResult& r, const PipelineOptions& o) {
       out << " " << r.worst_hexes[i] << " (SJ " << r.quality.scaled_jacobian[r.worst_hexes[i]] << ")";
     out << "\n";
   }
+  // Thin walls sized by curvature alone are the commonest cause of poor hexes left over.
+  const bool poor = r.quality.inverted > 0 || r.quality.below_0_2 > 0;
+  if (poor && !o.thex_only && o.thickness_ratio <= 0 && r.thin_wall_vertices * 20 >= r.input_summary.vertices)
+    out << "  hint: " << r.thin_wall_vertices << " of " << r.input_summary.vertices
+        << " input vertices lie on walls thinner than their coarse size; --thickness-ratio 1 sizes such walls by their\n"
+           "  thickness (more nodes, better hexes: the shared pelvis went from min scaled Jacobian 0.04 to 0.21)\n";
   return out.str();
 }
 
@@ -98,7 +104,10 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
                   {"strict", o.strict},
                   {"tetgen", o.tetgen_switches},
                   {"time_limit_seconds", o.time_limit_seconds}};
-  if (!o.thex_only) j["coarse"] = surface_json(r.coarse_summary);
+  if (!o.thex_only) {
+    j["coarse"] = surface_json(r.coarse_summary);
+    j["coarse"]["thin_wall_input_vertices"] = r.thin_wall_vertices;
+  }
   j["tets"] = {{"count", r.tets}, {"shape", stats_json(r.tet_shape)}};
   j["hex"] = {{"nodes", r.hexes.nodes.size()},
               {"hexes", r.hexes.hexes.size()},
