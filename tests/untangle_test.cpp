@@ -91,6 +91,29 @@ TEST(Untangle, BoundaryNodesSlideOnTheSurface) {
     if (mesh.is_boundary_node(int(v))) EXPECT_LT(distance_to(bvh, mesh.nodes[v]), 1e-9) << "node " << v;
 }
 
+// Where no repair can succeed (boundary nodes of the top face thrown across each other,
+// sliding off), a repaired part that ends worse than it began goes back: the untangler
+// never hands on more inverted hexes than it was given.
+TEST(Untangle, HopelessRepairNeverEndsWithMoreInvertedHexes) {
+  for (const double throw_to : {0.6, 0.85, 0.95}) {
+    const TriSurface cube = box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), 4);
+    HexMesh mesh = hex_block(Vec3(0, 0, 0), Vec3(1, 1, 1), 4, 4, 4);
+    label_boundary(mesh, box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), 1));
+    for (int j = 1; j <= 3; ++j) {
+      const int node = (4 * 5 + j) * 5 + 1;  // top face (0.25, j / 4, 1)
+      mesh.nodes[size_t(node)] = Vec3(throw_to, 0.25 * j + 0.1 * (throw_to - 0.5), 1.0);
+    }
+    const TriangleBvh bvh(cube);
+    UntangleOptions no_sliding;
+    no_sliding.slide_boundary = false;
+    const UntangleReport report = untangle_and_smooth(mesh, bvh, no_sliding);
+    std::printf("thrown to %.2f: %zu inverted before, %zu after\n", throw_to, report.inverted_before,
+                report.inverted_after);
+    EXPECT_GT(report.inverted_before, 0u);
+    EXPECT_LE(report.inverted_after, report.inverted_before) << "thrown to " << throw_to;
+  }
+}
+
 // The repairs and the shape pass work where the mesh is poor, not everywhere: in a block
 // that is smoothly distorted throughout (every hex fine, none a cube), one interior node
 // pushed through a face is repaired without moving any node 8 or more hex layers away.
