@@ -8,6 +8,7 @@
 #include "core/node_count.h"
 #include "core/project_boundary.h"
 #include "core/read_surface.h"
+#include "core/remove_boundary_edges.h"
 #include "core/split_surface_tets.h"
 #include "core/surface_distance.h"
 #include "core/tetrahedralize.h"
@@ -101,7 +102,11 @@ size_t predicted_nodes(const TriSurface& input, const PipelineOptions& options, 
     throw MeshingError(std::string("coarsening produced an invalid surface: ") + e.what());
   }
   TetMesh tets = tetrahedralize(coarse, tetgen_options_for(options));
-  if (options.project) split_surface_tets(tets);
+  if (options.project) {
+    cone_edge_clusters(tets);
+    remove_boundary_edges(tets);
+    split_surface_tets(tets);
+  }
   return diced_thex_nodes(count_tet_entities(tets), options.dice);
 }
 
@@ -210,6 +215,16 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
   if (!options.thex_only && options.project) {
     // Interior edges and faces between boundary vertices would give hexes that cannot all be
     // valid once the boundary is on the smooth input surface.
+    // First the clusters of such edges that one cone point replaces, then flips, which add
+    // no point, and midpoint splits only where no flip is allowed.
+    timed_stage(result, progress, "remove boundary edges", [&] {
+      const size_t coned = cone_edge_clusters(tets);
+      const RemoveBoundaryEdgesReport removed = remove_boundary_edges(tets);
+      result.tets = tets.tets.size();
+      return count_text("clusters coned", coned) + ", then of " + std::to_string(removed.candidates) +
+             " interior edges between boundary vertices " + std::to_string(removed.removed) + " flipped away and " +
+             std::to_string(removed.split) + " split, " + count_text("tets", result.tets);
+    });
     timed_stage(result, progress, "split surface tets", [&] {
       const SplitSurfaceTetsReport split = split_surface_tets(tets);
       result.tets = tets.tets.size();
