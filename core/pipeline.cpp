@@ -4,6 +4,7 @@
 #include "core/coarsen.h"
 #include "core/conformity.h"
 #include "core/dice.h"
+#include "core/flip_three_tet_edges.h"
 #include "core/local_smooth.h"
 #include "core/node_count.h"
 #include "core/project_boundary.h"
@@ -105,6 +106,7 @@ size_t predicted_nodes(const TriSurface& input, const PipelineOptions& options, 
   if (options.project) {
     cone_edge_clusters(tets);
     remove_boundary_edges(tets);
+    flip_three_tet_edges(tets);
     split_surface_tets(tets);
   }
   return diced_thex_nodes(count_tet_entities(tets), options.dice);
@@ -224,6 +226,12 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
       return count_text("clusters coned", coned) + ", then of " + std::to_string(removed.candidates) +
              " interior edges between boundary vertices " + std::to_string(removed.removed) + " flipped away and " +
              std::to_string(removed.split) + " split, " + count_text("tets", result.tets);
+    });
+    // Then fewer tets where that does not lower the local worst tet shape.
+    timed_stage(result, progress, "flip 3-2", [&] {
+      const FlipThreeTetEdgesReport flips = flip_three_tet_edges(tets);
+      result.tets = tets.tets.size();
+      return count_text("three-tet edges flipped", flips.flips) + ", " + count_text("tets", result.tets);
     });
     timed_stage(result, progress, "split surface tets", [&] {
       const SplitSurfaceTetsReport split = split_surface_tets(tets);
