@@ -13,6 +13,12 @@ EditableTets::EditableTets(TetMesh& mesh) : mesh_(mesh), alive_(mesh.tets.size()
     for (int v : mesh.tets[t]) vertex_tets_[size_t(v)].push_back(int(t));
 }
 
+std::vector<int> EditableTets::tets_of(int v) {
+  auto& list = vertex_tets_[size_t(v)];
+  list.erase(std::remove_if(list.begin(), list.end(), [&](int t) { return !alive_[size_t(t)]; }), list.end());
+  return list;
+}
+
 std::vector<int> EditableTets::tets_with(int a, int b) {
   std::vector<int> out;
   auto& list = vertex_tets_[size_t(a)];

@@ -29,6 +29,8 @@ class EditableTets {
   bool alive(int t) const { return alive_[size_t(t)] != 0; }
   size_t tet_slots() const { return mesh_.tets.size(); }
 
+  //! The live tets that have vertex v.
+  std::vector<int> tets_of(int v);
   //! The live tets that have both a and b.
   std::vector<int> tets_with(int a, int b);
   bool has_edge(int a, int b) const;

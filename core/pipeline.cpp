@@ -2,6 +2,7 @@
 #include "core/pipeline.h"
 
 #include "core/coarsen.h"
+#include "core/collapse_interior_vertices.h"
 #include "core/conformity.h"
 #include "core/dice.h"
 #include "core/flip_three_tet_edges.h"
@@ -107,6 +108,7 @@ size_t predicted_nodes(const TriSurface& input, const PipelineOptions& options, 
     cone_edge_clusters(tets);
     remove_boundary_edges(tets);
     flip_three_tet_edges(tets);
+    collapse_interior_vertices(tets);
     split_surface_tets(tets);
   }
   return diced_thex_nodes(count_tet_entities(tets), options.dice);
@@ -227,11 +229,18 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
              " interior edges between boundary vertices " + std::to_string(removed.removed) + " flipped away and " +
              std::to_string(removed.split) + " split, " + count_text("tets", result.tets);
     });
-    // Then fewer tets where that does not lower the local worst tet shape.
+    // Then fewer tets (3-2 flips, then fewer interior points) where that does not lower the
+    // local worst tet shape.
     timed_stage(result, progress, "flip 3-2", [&] {
       const FlipThreeTetEdgesReport flips = flip_three_tet_edges(tets);
       result.tets = tets.tets.size();
       return count_text("three-tet edges flipped", flips.flips) + ", " + count_text("tets", result.tets);
+    });
+    timed_stage(result, progress, "merge interior points", [&] {
+      const CollapseInteriorVerticesReport collapsed = collapse_interior_vertices(tets);
+      result.tets = tets.tets.size();
+      return count_text("interior vertices merged into a neighbour", collapsed.collapsed) + ", " +
+             count_text("tets", result.tets);
     });
     timed_stage(result, progress, "split surface tets", [&] {
       const SplitSurfaceTetsReport split = split_surface_tets(tets);
