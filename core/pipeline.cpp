@@ -10,6 +10,7 @@
 #include "core/node_count.h"
 #include "core/project_boundary.h"
 #include "core/read_surface.h"
+#include "core/remove_flat_valence3_vertices.h"
 #include "core/remove_boundary_edges.h"
 #include "core/split_surface_tets.h"
 #include "core/surface_distance.h"
@@ -98,6 +99,7 @@ TetgenOptions tetgen_options_for(const PipelineOptions& options) {
 // dicing would make (projection and untangling move nodes, they do not add any).
 size_t predicted_nodes(const TriSurface& input, const PipelineOptions& options, double eps) {
   TriSurface coarse = coarsen(input, coarsen_options_for(options, eps)).surface;
+  if (options.project) remove_flat_valence3_vertices(coarse);
   try {
     verify_surface(coarse, "coarse surface");
   } catch (const InputError& e) {
@@ -196,7 +198,10 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
       coarsen_options.progress = [&](double f) { progress.update(f); };
       CoarsenResult coarse = coarsen(result.input, coarsen_options);
       result.coarse = std::move(coarse.surface);
-      return count_text("triangles", result.coarse.triangles.size());
+      // With projection, a flat three-triangle vertex would leave hexes no untangler makes good.
+      const size_t flat = options.project ? remove_flat_valence3_vertices(result.coarse) : 0;
+      return count_text("triangles", result.coarse.triangles.size()) +
+             (flat ? ", " + count_text("flat three-triangle vertices removed", flat) : std::string());
     });
     timed_stage(result, progress, "verify coarse", [&] {
       // The guard in front of TetGen: a self-intersecting coarse surface would crash it.
