@@ -226,7 +226,7 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
     // valid once the boundary is on the smooth input surface.
     // First the clusters of such edges that one cone point replaces, then flips, which add
     // no point, and midpoint splits only where no flip is allowed.
-    timed_stage(result, progress, "remove boundary edges", [&] {
+    timed_stage(result, progress, "flip boundary edges", [&] {
       const size_t coned = cone_edge_clusters(tets);
       const RemoveBoundaryEdgesReport removed = remove_boundary_edges(tets);
       result.tets = tets.tets.size();
@@ -241,7 +241,7 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
       result.tets = tets.tets.size();
       return count_text("three-tet edges flipped", flips.flips) + ", " + count_text("tets", result.tets);
     });
-    timed_stage(result, progress, "merge interior points", [&] {
+    timed_stage(result, progress, "merge inner points", [&] {
       const CollapseInteriorVerticesReport collapsed = collapse_interior_vertices(tets);
       result.tets = tets.tets.size();
       return count_text("interior vertices merged into a neighbour", collapsed.collapsed) + ", " +
@@ -250,6 +250,7 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
     timed_stage(result, progress, "split surface tets", [&] {
       const SplitSurfaceTetsReport split = split_surface_tets(tets);
       result.tets = tets.tets.size();
+      result.tet_shape = summarize(tet_shapes(tets));  // the tets THex gets
       return count_text("tets split", split.split_tets) + ", " + count_text("interior edges split", split.split_edges) +
              ", " + count_text("interior faces split", split.split_faces);
     });
