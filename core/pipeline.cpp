@@ -2,12 +2,16 @@
 #include "core/pipeline.h"
 
 #include "core/coarsen.h"
+#include "core/collapse_interior_vertices.h"
 #include "core/conformity.h"
 #include "core/dice.h"
+#include "core/flip_three_tet_edges.h"
 #include "core/local_smooth.h"
 #include "core/node_count.h"
 #include "core/project_boundary.h"
 #include "core/read_surface.h"
+#include "core/remove_flat_valence3_vertices.h"
+#include "core/remove_boundary_edges.h"
 #include "core/split_surface_tets.h"
 #include "core/surface_distance.h"
 #include "core/tetrahedralize.h"
@@ -96,13 +100,20 @@ TetgenOptions tetgen_options_for(const PipelineOptions& options) {
 // dicing would make (projection and untangling move nodes, they do not add any).
 size_t predicted_nodes(const TriSurface& input, const PipelineOptions& options, double eps) {
   TriSurface coarse = coarsen(input, coarsen_options_for(options, eps)).surface;
+  if (options.project) remove_flat_valence3_vertices(coarse);
   try {
     verify_surface(coarse, "coarse surface");
   } catch (const InputError& e) {
     throw MeshingError(std::string("coarsening produced an invalid surface: ") + e.what());
   }
   TetMesh tets = tetrahedralize(coarse, tetgen_options_for(options));
-  if (options.project) split_surface_tets(tets);
+  if (options.project) {
+    cone_edge_clusters(tets);
+    remove_boundary_edges(tets);
+    flip_three_tet_edges(tets);
+    collapse_interior_vertices(tets);
+    split_surface_tets(tets);
+  }
   return diced_thex_nodes(count_tet_entities(tets), options.dice);
 }
 
@@ -188,11 +199,14 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
       coarsen_options.progress = [&](double f) { progress.update(f); };
       CoarsenResult coarse = coarsen(result.input, coarsen_options);
       result.coarse = std::move(coarse.surface);
-      std::string detail = count_text("triangles", result.coarse.triangles.size());
       result.thin_wall_vertices = coarse.thin_wall_vertices;
+      std::string detail = count_text("triangles", result.coarse.triangles.size());
       if (coarse.thin_wall_vertices)
         detail += " (" + count_text("input vertices", coarse.thin_wall_vertices) +
                   (options.thickness_ratio > 0 ? " sized by wall thickness)" : " on walls thinner than their size)");
+      // With projection, a flat three-triangle vertex would leave hexes no untangler makes good.
+      const size_t flat = options.project ? remove_flat_valence3_vertices(result.coarse) : 0;
+      if (flat) detail += ", " + count_text("flat three-triangle vertices removed", flat);
       return detail;
     });
     timed_stage(result, progress, "verify coarse", [&] {
@@ -216,9 +230,33 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
   if (!options.thex_only && options.project) {
     // Interior edges and faces between boundary vertices would give hexes that cannot all be
     // valid once the boundary is on the smooth input surface.
+    // First the clusters of such edges that one cone point replaces, then flips, which add
+    // no point, and midpoint splits only where no flip is allowed.
+    timed_stage(result, progress, "flip boundary edges", [&] {
+      const size_t coned = cone_edge_clusters(tets);
+      const RemoveBoundaryEdgesReport removed = remove_boundary_edges(tets);
+      result.tets = tets.tets.size();
+      return count_text("clusters coned", coned) + ", then of " + std::to_string(removed.candidates) +
+             " interior edges between boundary vertices " + std::to_string(removed.removed) + " flipped away and " +
+             std::to_string(removed.split) + " split, " + count_text("tets", result.tets);
+    });
+    // Then fewer tets (3-2 flips, then fewer interior points) where that does not lower the
+    // local worst tet shape.
+    timed_stage(result, progress, "flip 3-2", [&] {
+      const FlipThreeTetEdgesReport flips = flip_three_tet_edges(tets);
+      result.tets = tets.tets.size();
+      return count_text("three-tet edges flipped", flips.flips) + ", " + count_text("tets", result.tets);
+    });
+    timed_stage(result, progress, "merge inner points", [&] {
+      const CollapseInteriorVerticesReport collapsed = collapse_interior_vertices(tets);
+      result.tets = tets.tets.size();
+      return count_text("interior vertices merged into a neighbour", collapsed.collapsed) + ", " +
+             count_text("tets", result.tets);
+    });
     timed_stage(result, progress, "split surface tets", [&] {
       const SplitSurfaceTetsReport split = split_surface_tets(tets);
       result.tets = tets.tets.size();
+      result.tet_shape = summarize(tet_shapes(tets));  // the tets THex gets
       return count_text("tets split", split.split_tets) + ", " + count_text("interior edges split", split.split_edges) +
              ", " + count_text("interior faces split", split.split_faces);
     });

@@ -53,7 +53,7 @@ struct PipelineResult {
   TriSurface coarse;                  //!< the surface TetGen meshed (the input itself for --thex-only)
   SurfaceSummary coarse_summary;
   size_t tets = 0;
-  QualityStats tet_shape;
+  QualityStats tet_shape;             //!< of the tets THex gets (after the edits that precede it)
   HexMesh hexes;
   HexQuality quality;
   bool conforming = false;

@@ -44,7 +44,7 @@ double signed_volume(const TetMesh& m, const std::array<int, 4>& t) {
 // paper's 20 tets around the centre instead of 45. A cone is used only when every cone tet
 // is positive and no worse (shape) than the worst tet it replaces, and it adds no more tets
 // than the midpoint splits would. Returns the clusters coned.
-size_t cone_edge_clusters(TetMesh& mesh, const std::vector<char>& on_boundary) {
+size_t cone_edge_clusters_impl(TetMesh& mesh, const std::vector<char>& on_boundary) {
   const auto edges = interior_boundary_edges(mesh, on_boundary);
   if (edges.size() < 2) return 0;
   // Union-find over tets: all tets around one such edge are in one cluster.
@@ -269,6 +269,13 @@ size_t split_interior_boundary_faces(TetMesh& mesh, const std::vector<char>& on_
 
 }  // namespace
 
+size_t cone_edge_clusters(TetMesh& mesh) {
+  std::vector<char> on_boundary(mesh.points.size(), 0);
+  for (const auto& f : mesh.boundary_faces)
+    for (int v : f) on_boundary[size_t(v)] = 1;
+  return cone_edge_clusters_impl(mesh, on_boundary);
+}
+
 SplitSurfaceTetsReport split_surface_tets(TetMesh& mesh, const SplitSurfaceTetsOptions& options) {
   SplitSurfaceTetsReport report;
   // Boundary faces by their sorted vertex triple, and boundary vertices.
@@ -290,7 +297,7 @@ SplitSurfaceTetsReport split_surface_tets(TetMesh& mesh, const SplitSurfaceTetsO
 
   if (options.split_interior_edges) {
     if (options.cone_edge_clusters) {
-      report.coned_clusters = cone_edge_clusters(mesh, on_boundary);
+      report.coned_clusters = cone_edge_clusters_impl(mesh, on_boundary);
       on_boundary.resize(mesh.points.size(), 0);  // the cone apexes are interior
     }
     report.split_edges = split_interior_boundary_edges(mesh, on_boundary);

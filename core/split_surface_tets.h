@@ -44,6 +44,9 @@ struct SplitSurfaceTetsReport {
   size_t coned_clusters = 0;  //!< clusters of such edges re-meshed as a cone from one point
 };
 
+//! Only the cone step of split_surface_tets (cone_edge_clusters): returns the clusters coned.
+size_t cone_edge_clusters(TetMesh& mesh);
+
 //! Splits, in place, the selected edges at their midpoint, faces at their centroid and tets
 //! at their centroid (or re-meshes edge clusters as cones). Every new point is inside the
 //! volume and every split goes through all tets on the split entity, so the mesh stays
