@@ -260,6 +260,21 @@ size_t cap_by_wall_thickness(const TriSurface& input, const SurfaceMesh& input_m
 
 }  // namespace
 
+size_t count_thin_wall_vertices(const TriSurface& input, const CoarsenOptions& options) {
+  if (input.triangles.empty()) return 0;
+  SurfaceMesh input_mesh = to_openmesh(input);
+  mark_features(input_mesh, options.feature_angle_deg);
+  CurvatureSizingOptions sizing;
+  sizing.eps = options.eps;
+  sizing.h_min = options.h_min;
+  sizing.h_max = options.h_max;
+  sizing.gradation = options.gradation;
+  const double h_min = sizing_bounds(input_mesh, sizing).first;
+  std::vector<double> h = curvature_sizing(input_mesh, sizing);
+  const double ratio = options.max_size_per_thickness > 0 ? options.max_size_per_thickness : 1.0;
+  return cap_by_wall_thickness(input, input_mesh, TriangleBvh(input), ratio, options.gradation, h_min, false, h);
+}
+
 std::vector<std::array<int, 2>> self_intersections(const TriSurface& surface) {
   const TriangleBvh bvh(surface);
   std::vector<std::array<int, 2>> pairs;
@@ -287,10 +302,9 @@ CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options) {
   std::tie(result.h_min, result.h_max) = sizing_bounds(input_mesh, sizing);
   std::vector<double> h = curvature_sizing(input_mesh, sizing);
   const TriangleBvh input_bvh(input);
-  const bool by_thickness = options.max_size_per_thickness > 0;
-  result.thin_wall_vertices = cap_by_wall_thickness(input, input_mesh, input_bvh,
-                                                    by_thickness ? options.max_size_per_thickness : 1.0,
-                                                    options.gradation, result.h_min, by_thickness, h);
+  if (options.max_size_per_thickness > 0)
+    result.thin_wall_vertices = cap_by_wall_thickness(input, input_mesh, input_bvh, options.max_size_per_thickness,
+                                                      options.gradation, result.h_min, true, h);
   const Features features = detect_features(input, options.feature_angle_deg);
   result.feature_edges = features.edges.size();
   result.feature_corners = features.corners.size();

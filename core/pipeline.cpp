@@ -202,8 +202,7 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
       result.thin_wall_vertices = coarse.thin_wall_vertices;
       std::string detail = count_text("triangles", result.coarse.triangles.size());
       if (coarse.thin_wall_vertices)
-        detail += " (" + count_text("input vertices", coarse.thin_wall_vertices) +
-                  (options.thickness_ratio > 0 ? " sized by wall thickness)" : " on walls thinner than their size)");
+        detail += " (" + count_text("input vertices", coarse.thin_wall_vertices) + " sized by wall thickness)";
       // With projection, a flat three-triangle vertex would leave hexes no untangler makes good.
       const size_t flat = options.project ? remove_flat_valence3_vertices(result.coarse) : 0;
       if (flat) detail += ", " + count_text("flat three-triangle vertices removed", flat);
@@ -321,6 +320,13 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
     result.worst_hexes = worst_by(result.quality.scaled_jacobian, 10);
     return count_text("inverted", result.quality.inverted);
   });
+  // Poor hexes left with the wall-thickness sizing off: are thin walls the likely cause?
+  const bool poor = result.quality.inverted > 0 || result.quality.below_0_2 > 0;
+  if (poor && !options.thex_only && options.thickness_ratio <= 0)
+    timed_stage(result, progress, "thin walls", [&] {
+      result.thin_wall_vertices = count_thin_wall_vertices(result.input, coarsen_options_for(options, result.eps));
+      return count_text("input vertices", result.thin_wall_vertices) + " on walls thinner than their size";
+    });
 
   result.total_seconds = seconds_since(start);
   if (options.strict && result.quality.inverted > 0) {

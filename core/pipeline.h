@@ -60,7 +60,9 @@ struct PipelineResult {
   double hausdorff = 0, mean_distance = 0;  //!< hex boundary vs input, input units
   double hex_volume = 0;
   size_t inverted_before_untangle = 0;
-  size_t thin_wall_vertices = 0;            //!< CoarsenResult::thin_wall_vertices
+  //! Input vertices sized by wall thickness (--thickness-ratio) or, with that off and poor
+  //! hexes left, on walls thinner than their size (what the summary's hint counts).
+  size_t thin_wall_vertices = 0;
   std::vector<size_t> worst_hexes;          //!< ids of the worst hexes by scaled Jacobian
   std::vector<StageRecord> stages;
   double total_seconds = 0;

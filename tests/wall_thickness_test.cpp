@@ -94,10 +94,11 @@ TEST(WallThickness, CoarseningSizesAThinWallByItsThickness) {
   by_thickness.max_size_per_thickness = 1;
   const CoarsenResult wide = coarsen(slab, curvature_only), thin = coarsen(slab, by_thickness);
   // At least every vertex inside the two big faces (2 x 19 x 19); the rim's normals lean
-  // sideways and some of its vertices see no opposite wall. Counted either way (a run can
-  // then suggest the option), applied only when asked for.
-  EXPECT_GE(wide.thin_wall_vertices, 2u * 19 * 19);
+  // sideways and some of its vertices see no opposite wall. Counted apart when the option
+  // is off, and the same vertices.
+  EXPECT_EQ(wide.thin_wall_vertices, 0u);
   EXPECT_GE(thin.thin_wall_vertices, 2u * 19 * 19);
+  EXPECT_EQ(count_thin_wall_vertices(slab, curvature_only), thin.thin_wall_vertices);
   EXPECT_GT(longest_edge(wide.surface), 3.0);
   // Sizes 0.5 and new edges below sqrt(2) sizes; the input's own edges (0.5 and 0.71 on the
   // faces, 0.5 and 0.51 on the sides) are kept where nothing shorter was to collapse.
