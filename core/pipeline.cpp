@@ -294,6 +294,7 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
       result.inverted_before_untangle = report.inverted_before;
       std::ostringstream out;
       out << report.inverted_before << " inverted before, " << report.inverted_after << " after";
+      if (report.undone) out << " (its result had more, so it was undone)";
       return out.str();
     });
     timed_stage(result, progress, "smooth worst", [&] {

@@ -154,7 +154,6 @@ struct Phase {
   std::vector<unsigned> active_frames;  //!< per active hex: bit k set if frame k can move
   std::vector<int> incidence_start, incidence;  //!< per movable node: slots a * 8 + j in hex_gradient
   std::vector<Vec3> hex_gradient;
-  std::vector<Vec3> start_positions;  //!< of movable_nodes, kept when a worse end is undone
   int rounds = 0;
   bool timed_out = false;
 };
@@ -215,6 +214,10 @@ class Untangler {
         std::count_if(scaled_jacobian_.begin(), scaled_jacobian_.end(), [](double sj) { return sj <= 0; }));
     pos_ = mesh_.nodes;
     base_ = mesh_.nodes;
+    // Where the regularized energy cannot untangle, it lowers itself by flattening hexes
+    // instead: on skull_hollow (before the tet-edge flips) the untangler handed on 3,077
+    // inverted hexes where 2,313 came in. A run that ends worse than it began is undone.
+    const std::vector<Vec3> given = mesh_.nodes;
     tangent1_.assign(n_nodes, Vec3::Zero());
     tangent2_.assign(n_nodes, Vec3::Zero());
     var_offset_.assign(n_nodes, -1);
@@ -246,13 +249,11 @@ class Untangler {
     // fold in a few rounds, where the fixed boundary spent all its rounds on the femur's
     // three hopeless parts (a fifth of the untangler's time) and still left them inverted.
     give_up_hopeless_ = options_.slide_boundary;
-    keep_no_worse_ = true;
     repair(kInvertedBelow, false, fixed_rounds);
     give_up_hopeless_ = false;
     for (int phase = 0; phase < options_.max_boundary_phases && options_.slide_boundary && !report.time_limit_reached;
          ++phase)
       if (!repair(kInvertedBelow, true, options_.max_rounds)) break;
-    keep_no_worse_ = false;
     // 2. Shape where it is poor (a barrier once nothing is inverted). Each connected part of
     // the region is its own problem: one near-flat frame then limits the steps of its own
     // part only, not of the whole mesh, and a part stops when it has converged.
@@ -268,7 +269,6 @@ class Untangler {
                   options_.smoothing_iterations, report);
     }
     // 3. What is still below the target, locally, the boundary sliding where it must.
-    keep_no_worse_ = true;
     if (!report.time_limit_reached) repair(options_.target_scaled_jacobian, false, fixed_rounds);
     for (int phase = 0; phase < options_.max_boundary_phases && options_.slide_boundary && !report.time_limit_reached;
          ++phase) {
@@ -278,7 +278,12 @@ class Untangler {
     }
     report.sliding_boundary_nodes = size_t(std::count(ever_sliding.begin(), ever_sliding.end(), 1));
 
-    const HexQuality q = measure_hex_quality(mesh_);
+    HexQuality q = measure_hex_quality(mesh_);
+    if (q.inverted > report.inverted_before) {
+      mesh_.nodes = given;
+      q = measure_hex_quality(mesh_);
+      report.undone = true;
+    }
     report.inverted_after = q.inverted;
     report.min_scaled_jacobian = q.scaled_jacobian_stats.min;
     report.avg_shape = q.shape_stats.avg;
@@ -408,8 +413,6 @@ class Untangler {
     ph.movable_nodes = movable;
     ph.timed_out = false;
     ph.sliding_nodes.clear();
-    ph.start_positions.clear();
-    for (size_t v : movable) ph.start_positions.push_back(mesh_.nodes[v]);
     int n_vars = 0;
     for (size_t v : ph.movable_nodes) {
       var_offset_[v] = n_vars;
@@ -495,27 +498,7 @@ class Untangler {
     // var_offset_ is -1 everywhere between problems: a neighbouring problem solved at the
     // same time reads it for the nodes of its own hexes.
     for (size_t v : ph.movable_nodes) pos_[v] = base_[v] = mesh_.nodes[v], var_offset_[v] = -1;
-    const auto [inverted_before, min_before] = inverted_and_min(ph.active_hexes);
     update_scaled_jacobians(ph.active_hexes.size(), [&](size_t a) { return ph.active_hexes[a]; });
-    const auto [inverted_after, min_after] = inverted_and_min(ph.active_hexes);
-    if (inverted_after < inverted_before) return;
-    if (inverted_after == inverted_before && (!keep_no_worse_ || min_after >= min_before)) return;
-    for (size_t i = 0; i < ph.movable_nodes.size(); ++i) {
-      const size_t v = ph.movable_nodes[i];
-      mesh_.nodes[v] = pos_[v] = base_[v] = ph.start_positions[i];
-    }
-    update_scaled_jacobians(ph.active_hexes.size(), [&](size_t a) { return ph.active_hexes[a]; });
-  }
-
-  //! Inverted hexes among `hexes` and their smallest scaled Jacobian, from the cached values.
-  std::pair<size_t, double> inverted_and_min(const std::vector<size_t>& hexes) const {
-    size_t inverted = 0;
-    double lowest = kInf;
-    for (size_t h : hexes) {
-      inverted += scaled_jacobian_[h] <= kInvertedBelow;
-      lowest = std::min(lowest, scaled_jacobian_[h]);
-    }
-    return {inverted, lowest};
   }
 
   // Base positions and tangent frames of the variables: x = base + scale * (z or z0 t1 + z1 t2).
@@ -662,12 +645,6 @@ class Untangler {
   std::vector<int> var_offset_;          //!< per node: first variable, -1 if it does not move
   std::vector<Vec3> pos_;
   bool give_up_hopeless_ = false;  //!< see run(): set only between parallel sections
-  //! A part that ends with more inverted hexes than it began with goes back to where it
-  //! was; in the repairs (this flag) also one that ends with as many and a lower minimum.
-  //! Where the regularized energy cannot untangle (skull_hollow's thin walls), it lowers
-  //! the energy by flattening hexes instead: the untangler handed on 3,077 inverted hexes
-  //! where 2,313 came in, and after long runs nodes had collapsed onto each other.
-  bool keep_no_worse_ = false;
   std::vector<Vec3> base_, tangent1_, tangent2_;
 };
 

@@ -62,6 +62,7 @@ struct UntangleReport {
   int rounds = 0;                     //!< epsilon-continuation rounds run in all
   double seconds = 0;
   bool time_limit_reached = false;
+  bool undone = false;  //!< it ended with more inverted hexes than it began with: nodes put back
 };
 
 //! Moves interior nodes (and, where needed, boundary nodes along the surface of
