@@ -113,6 +113,7 @@ TEST(WallThickness, ThinPlateGetsBetterHexesSizedByThicknessAndTheSummarySaysSo)
   write_surface(box_surface(Vec3(0, 0, 0), Vec3(4, 4, 0.5), 12), path);
   Progress quiet;
   PipelineOptions curvature_only, by_thickness;
+  curvature_only.thickness_ratio = 0;
   by_thickness.thickness_ratio = 1;
   const PipelineResult flat = run_pipeline(path, curvature_only, quiet);
   const PipelineResult sized = run_pipeline(path, by_thickness, quiet);
