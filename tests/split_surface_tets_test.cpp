@@ -9,6 +9,7 @@
 #include "core/node_count.h"
 #include "core/coarsen.h"
 #include "core/verify_surface.h"
+#include "tet_edit_fixtures.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -20,6 +21,9 @@
 #include <set>
 
 using namespace dthex;
+using dthex::tet_fixtures::expect_conforming;
+using dthex::tet_fixtures::signed_volume;
+using dthex::tet_fixtures::sorted_face;
 
 namespace {
 
@@ -29,42 +33,6 @@ TetMesh tets_without_steiner_points(const std::string& mesh) {
   TetgenOptions options;
   options.switches = "pY";
   return tetrahedralize(read_surface(std::string(DTHEX_SOURCE_DIR "/meshes/") + mesh), options);
-}
-
-double signed_volume(const TetMesh& m, const std::array<int, 4>& t) {
-  const Vec3& a = m.points[size_t(t[0])];
-  return (m.points[size_t(t[1])] - a).dot((m.points[size_t(t[2])] - a).cross(m.points[size_t(t[3])] - a)) / 6.0;
-}
-
-// The face of tet t opposite its vertex `skip`, vertices sorted: a key for matching faces.
-std::array<int, 3> sorted_face(const std::array<int, 4>& t, int skip) {
-  std::array<int, 3> key{};
-  for (int i = 0, k = 0; i < 4; ++i)
-    if (i != skip) key[size_t(k++)] = t[size_t(i)];
-  std::sort(key.begin(), key.end());
-  return key;
-}
-
-// Every interior triangle is shared by exactly two tets with opposite orientation, every
-// boundary face by one: the tet mesh is conforming and its boundary is the given faces.
-void expect_conforming(const TetMesh& m) {
-  std::map<std::array<int, 3>, int> uses;
-  for (const auto& t : m.tets)
-    for (int skip = 0; skip < 4; ++skip) {
-      const std::array<int, 3> key = sorted_face(t, skip);
-      ++uses[key];
-    }
-  size_t boundary = 0;
-  for (const auto& [key, n] : uses) {
-    ASSERT_LE(n, 2);
-    if (n == 1) ++boundary;
-  }
-  EXPECT_EQ(boundary, m.boundary_faces.size());
-  for (const auto& f : m.boundary_faces) {
-    std::array<int, 3> key = f;
-    std::sort(key.begin(), key.end());
-    EXPECT_EQ(uses[key], 1);
-  }
 }
 
 // Interior faces (not boundary faces) whose three vertices are all boundary vertices.

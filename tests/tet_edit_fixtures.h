@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Checks and a small mesh shared by the tests of the tet-mesh edits done before THex
-// (remove_boundary_edges, flip_three_tet_edges).
+// (remove_boundary_edges, flip_three_tet_edges, split_surface_tets).
 #pragma once
 
 #include "core/types.h"
@@ -26,18 +26,12 @@ inline std::array<int, 3> sorted_face(const std::array<int, 4>& t, int skip) {
   return key;
 }
 
-// Every interior triangle is shared by exactly two tets, every boundary face by one, every
-// tet is positive and the volume is what it was: the mesh is a valid triangulation of the
-// same domain with the same boundary.
-inline void expect_valid(const TetMesh& m, double volume) {
+// Every interior triangle is shared by exactly two tets, every boundary face by one: the tet
+// mesh is conforming and its boundary is the given faces.
+inline void expect_conforming(const TetMesh& m) {
   std::map<std::array<int, 3>, int> uses;
-  double total = 0;
-  for (const auto& t : m.tets) {
-    EXPECT_GT(signed_volume(m, t), 0);
-    total += signed_volume(m, t);
+  for (const auto& t : m.tets)
     for (int skip = 0; skip < 4; ++skip) ++uses[sorted_face(t, skip)];
-  }
-  EXPECT_NEAR(total, volume, 1e-9 * volume);
   size_t boundary = 0;
   for (const auto& [key, n] : uses) {
     ASSERT_LE(n, 2);
@@ -49,6 +43,18 @@ inline void expect_valid(const TetMesh& m, double volume) {
     std::sort(key.begin(), key.end());
     EXPECT_EQ(uses[key], 1);
   }
+}
+
+// Conforming, every tet positive and the volume what it was: the mesh is a valid
+// triangulation of the same domain with the same boundary.
+inline void expect_valid(const TetMesh& m, double volume) {
+  double total = 0;
+  for (const auto& t : m.tets) {
+    EXPECT_GT(signed_volume(m, t), 0);
+    total += signed_volume(m, t);
+  }
+  EXPECT_NEAR(total, volume, 1e-9 * volume);
+  expect_conforming(m);
 }
 
 inline double total_volume(const TetMesh& m) {
