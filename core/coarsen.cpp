@@ -237,6 +237,15 @@ RunOutput run_once(const SurfaceMesh& input_mesh, const TriSurface& input, const
   return out;
 }
 
+CurvatureSizingOptions sizing_options(const CoarsenOptions& options) {
+  CurvatureSizingOptions sizing;
+  sizing.eps = options.eps;
+  sizing.h_min = options.h_min;
+  sizing.h_max = options.h_max;
+  sizing.gradation = options.gradation;
+  return sizing;
+}
+
 //! The input vertices on a wall thinner than h / ratio (never counting one whose size
 //! would stay at h_min); with `apply`, their sizes become ratio x the thickness and the
 //! gradation is restored.
@@ -264,11 +273,7 @@ size_t count_thin_wall_vertices(const TriSurface& input, const CoarsenOptions& o
   if (input.triangles.empty()) return 0;
   SurfaceMesh input_mesh = to_openmesh(input);
   mark_features(input_mesh, options.feature_angle_deg);
-  CurvatureSizingOptions sizing;
-  sizing.eps = options.eps;
-  sizing.h_min = options.h_min;
-  sizing.h_max = options.h_max;
-  sizing.gradation = options.gradation;
+  const CurvatureSizingOptions sizing = sizing_options(options);
   const double h_min = sizing_bounds(input_mesh, sizing).first;
   std::vector<double> h = curvature_sizing(input_mesh, sizing);
   const double ratio = options.max_size_per_thickness > 0 ? options.max_size_per_thickness : 1.0;
@@ -294,11 +299,7 @@ CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options) {
   // Sizing field and features on the input.
   SurfaceMesh input_mesh = to_openmesh(input);
   mark_features(input_mesh, options.feature_angle_deg);  // sizing follows feature lines, not creases
-  CurvatureSizingOptions sizing;
-  sizing.eps = options.eps;
-  sizing.h_min = options.h_min;
-  sizing.h_max = options.h_max;
-  sizing.gradation = options.gradation;
+  const CurvatureSizingOptions sizing = sizing_options(options);
   std::tie(result.h_min, result.h_max) = sizing_bounds(input_mesh, sizing);
   std::vector<double> h = curvature_sizing(input_mesh, sizing);
   const TriangleBvh input_bvh(input);
