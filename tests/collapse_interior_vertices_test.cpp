@@ -79,11 +79,7 @@ TEST(CollapseInteriorVertices, RefusedWhenWorseOrWhenItJoinsBoundaryVertices) {
 // each, every point left is used, the mesh is valid with no interior edge or face between
 // boundary vertices, and the worst tet shape does not fall.
 TEST(CollapseInteriorVertices, CoarseVertebraKeepsItsWorstShape) {
-  TriSurface coarse = coarsen(read_surface(DTHEX_SOURCE_DIR "/meshes/vertebra_L1.off")).surface;
-  verify_surface(coarse, "coarse vertebra");
-  TetMesh tets = tetrahedralize(coarse);
-  cone_edge_clusters(tets);
-  remove_boundary_edges(tets);
+  TetMesh tets = coarse_vertebra_without_boundary_edges();
   flip_three_tet_edges(tets);
   const double volume = total_volume(tets);
   const std::vector<double> shapes_before = tet_shapes(tets);

@@ -59,11 +59,7 @@ TEST(FlipThreeTetEdges, RefusedWhenWorseOrWhenItMakesAFaceOfThreeBoundaryVertice
 // leave a valid mesh with no interior edge or face between boundary vertices, and the worst
 // tet shape does not fall.
 TEST(FlipThreeTetEdges, CoarseVertebraLosesOneTetPerFlip) {
-  TriSurface coarse = coarsen(read_surface(DTHEX_SOURCE_DIR "/meshes/vertebra_L1.off")).surface;
-  verify_surface(coarse, "coarse vertebra");
-  TetMesh tets = tetrahedralize(coarse);
-  cone_edge_clusters(tets);
-  remove_boundary_edges(tets);
+  TetMesh tets = coarse_vertebra_without_boundary_edges();
   ASSERT_EQ(bad_entities(tets).edges, 0u);
   const double volume = total_volume(tets);
   const std::vector<double> shapes_before = tet_shapes(tets);

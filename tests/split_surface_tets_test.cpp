@@ -22,6 +22,8 @@
 
 using namespace dthex;
 using dthex::tet_fixtures::expect_conforming;
+using dthex::tet_fixtures::expect_valid;
+using dthex::tet_fixtures::total_volume;
 using dthex::tet_fixtures::signed_volume;
 using dthex::tet_fixtures::sorted_face;
 
@@ -261,8 +263,7 @@ TEST(SplitSurfaceTets, LiverWithoutSteinerPointsLosesEveryInteriorBoundaryEdge) 
   };
   const size_t before = bad_edges(tets), points_before = tets.points.size();
   ASSERT_GT(before, 10u);
-  double volume_before = 0;
-  for (const auto& t : tets.tets) volume_before += signed_volume(tets, t);
+  const double volume_before = total_volume(tets);
   const SplitSurfaceTetsReport report = split_surface_tets(tets);
   EXPECT_EQ(bad_edges(tets), 0u);
   EXPECT_EQ(interior_faces_between_boundary_vertices(tets), 0u);
@@ -270,13 +271,7 @@ TEST(SplitSurfaceTets, LiverWithoutSteinerPointsLosesEveryInteriorBoundaryEdge) 
   EXPECT_LE(report.split_edges + report.coned_clusters, before);
   EXPECT_EQ(tets.points.size(),
             points_before + report.split_edges + report.coned_clusters + report.split_faces + report.split_tets);
-  double volume_after = 0;
-  for (const auto& t : tets.tets) {
-    EXPECT_GT(signed_volume(tets, t), 0);
-    volume_after += signed_volume(tets, t);
-  }
-  EXPECT_NEAR(volume_after, volume_before, 1e-9 * volume_before);
-  expect_conforming(tets);
+  expect_valid(tets, volume_before);
 }
 
 // The shared aneurysm coarsened at the default eps and meshed with the default switches (its

@@ -3,7 +3,13 @@
 // (remove_boundary_edges, flip_three_tet_edges, split_surface_tets).
 #pragma once
 
+#include "core/coarsen.h"
+#include "core/read_surface.h"
+#include "core/remove_boundary_edges.h"
+#include "core/split_surface_tets.h"
+#include "core/tetrahedralize.h"
 #include "core/types.h"
+#include "core/verify_surface.h"
 
 #include <gtest/gtest.h>
 
@@ -55,6 +61,17 @@ inline void expect_valid(const TetMesh& m, double volume) {
   }
   EXPECT_NEAR(total, volume, 1e-9 * volume);
   expect_conforming(m);
+}
+
+// The bundled vertebra coarsened and tet-meshed at the defaults, its interior edges between
+// boundary vertices already gone (coned, then flipped or split), as the pipeline hands it on.
+inline TetMesh coarse_vertebra_without_boundary_edges() {
+  TriSurface coarse = coarsen(read_surface(DTHEX_SOURCE_DIR "/meshes/vertebra_L1.off")).surface;
+  verify_surface(coarse, "coarse vertebra");
+  TetMesh tets = tetrahedralize(coarse);
+  cone_edge_clusters(tets);
+  remove_boundary_edges(tets);
+  return tets;
 }
 
 inline double total_volume(const TetMesh& m) {
