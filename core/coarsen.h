@@ -35,12 +35,11 @@ struct CoarsenOptions {
   //! triangle 116 degrees off) and the hexes there stayed inverted after projection.
   double max_surface_deviation_deg = 60.0;
   //! If > 0, the size is at most this many times the wall thickness (never below h_min; see
-  //! core/wall_thickness.h). Curvature sizes a thin wall by its large radius. 0 here (the
-  //! paper's coarsening); om_dthex uses 1: the shared pelvis then ends with min scaled
-  //! Jacobian 0.25 instead of 0.05 and skull_hollow 0.45% off the input instead of 1.0%.
-  //! At 1 spot's coarse surface (24 vertices capped) keeps a triangle 79
-  //! degrees off the input instead of 65, which the hexes survive (min scaled Jacobian
-  //! 0.22 instead of 0.30).
+  //! core/wall_thickness.h). Curvature sizes a thin wall by its large radius: at 1 the
+  //! shared pelvis ends with min scaled Jacobian 0.25 instead of 0.05 and skull_hollow
+  //! 0.45% off the input instead of 1.0%. Off by default: at 1 spot's coarse surface (24
+  //! vertices capped) keeps a triangle 79 degrees off the input instead of 65, and its hex
+  //! boundary then folds into the mesh (the referee finds 17 boundary faces inside it).
   double max_size_per_thickness = 0;
   //! Self-intersections found in the result are repaired by re-running with the sizing
   //! halved around them (the last extra run keeps the input vertices there instead); at

@@ -18,9 +18,9 @@ struct PipelineOptions {
   double h_min = 0;                 //!< smallest coarse edge size, input units; 0 = automatic
   double h_max = 0;                 //!< largest coarse edge, input units; 0 = automatic
   double max_edge_ratio = 1.4142135623730951;  //!< no collapse makes an edge longer than this x its size
-  //! Size at most this x the wall thickness; 0 = curvature alone (CoarsenOptions's default:
-  //! see max_size_per_thickness there for what each gives).
-  double thickness_ratio = 1;
+  //! Size at most this x the wall thickness; 0 = curvature alone (see
+  //! CoarsenOptions::max_size_per_thickness for what each gives).
+  double thickness_ratio = 0;
   bool thex_only = false;           //!< classic THex of the input: no coarsening, dicing, projection
   bool project = true;              //!< put the boundary back on the input surface
   bool strict = false;              //!< fail (MeshingError) if an inverted hex remains

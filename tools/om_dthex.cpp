@@ -170,10 +170,10 @@ int main(int argc, char** argv) {
       ->default_val(0.0)
       ->check(CLI::NonNegativeNumber);
   app.add_option("--thickness-ratio", cl.pipeline.thickness_ratio,
-                 "largest target edge length in wall thicknesses: where a wall (a pelvis wing, a skull vault) is thinner\n"
-                 "than the curvature size, the size follows the thickness. 0 = curvature alone, as the paper: a thin wall\n"
-                 "then gets triangles many times wider than it is thick, and hexes across it that cannot all be good")
-      ->default_val(1.0)
+                 "largest target edge length in wall thicknesses, for thin-walled inputs (a pelvis wing, a skull vault):\n"
+                 "where a wall is thinner than the curvature size, the size follows the thickness; 1 is a good value.\n"
+                 "0 (default) = curvature alone, as the paper; the summary suggests 1 when poor hexes remain on thin walls")
+      ->default_val(0.0)
       ->check(CLI::NonNegativeNumber);
   app.add_option("--max-edge-ratio", cl.pipeline.max_edge_ratio,
                  "a collapse is refused if it makes an edge longer than this times the local size (normalized length)")
