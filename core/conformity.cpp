@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "core/conformity.h"
 
+#include "core/boundary_overlap.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -90,8 +92,10 @@ uint64_t edge_key(int a, int b) {
 }
 
 
-// The faces used once, as outward rings in hex order, from the sorted face uses.
-std::vector<std::array<int, 4>> boundary_quads_of(const HexMesh& mesh, const std::vector<FaceUse>& uses) {
+// The faces used once, as outward rings in hex order, from the sorted face uses; the hex of
+// each goes to `owners` when given.
+std::vector<std::array<int, 4>> boundary_quads_of(const HexMesh& mesh, const std::vector<FaceUse>& uses,
+                                                  std::vector<int>* owners = nullptr) {
   std::vector<int> items;
   for_each_face(uses, [&](size_t first, size_t count) {
     if (count == 1) items.push_back(uses[first].item);
@@ -100,6 +104,10 @@ std::vector<std::array<int, 4>> boundary_quads_of(const HexMesh& mesh, const std
   std::vector<std::array<int, 4>> quads;
   quads.reserve(items.size());
   for (int item : items) quads.push_back(face_ring(mesh, item));
+  if (owners) {
+    owners->clear();
+    for (int item : items) owners->push_back(item / 6);
+  }
   return quads;
 }
 
@@ -169,7 +177,8 @@ ConformityReport check_conformity(const HexMesh& mesh, std::vector<std::array<in
   }
 
   // The boundary quad surface: edges, orientation, fans around each node.
-  const auto quads = boundary_quads_of(mesh, uses);  // the uses sorted above, not a second sort
+  std::vector<int> owners;
+  const auto quads = boundary_quads_of(mesh, uses, &owners);  // the uses sorted above, not a second sort
   if (boundary) *boundary = quads;
   struct EdgeUse {
     uint64_t key;
@@ -276,6 +285,12 @@ ConformityReport check_conformity(const HexMesh& mesh, std::vector<std::array<in
     }
     r.hanging_nodes = size_t(std::count(hanging.begin(), hanging.end(), 1));
   }
+
+  // Geometry last: boundary faces folded into the mesh's own volume.
+  const BoundaryOverlapReport overlap = find_boundary_faces_inside(mesh, quads, owners);
+  r.boundary_faces_inside = overlap.faces_inside;
+  r.first_boundary_face_inside = overlap.first_face;
+  r.first_inside_point = overlap.first_point;
   return r;
 }
 

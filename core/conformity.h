@@ -24,15 +24,21 @@ struct ConformityReport {
   size_t misoriented_boundary_edges = 0; //!< edges two boundary quads traverse in the same direction
   size_t non_manifold_boundary_nodes = 0;//!< boundary nodes whose boundary quads form several fans
   size_t hanging_nodes = 0;              //!< boundary nodes lying inside another boundary edge
+  //! Boundary faces lying inside the mesh: just outside each, a point that some hex covers
+  //! (the boundary folded into the volume; see boundary_overlap.h). The referee's probe.
+  size_t boundary_faces_inside = 0;
+  int first_boundary_face_inside = -1;   //!< index into the boundary quads, -1 when none
+  Vec3 first_inside_point = Vec3::Zero();//!< the probe point of that face
 
   bool conforming() const {
     return overshared_faces == 0 && duplicate_hexes == 0 && unreferenced_nodes == 0 && duplicate_nodes == 0 &&
            open_boundary_edges == 0 && misoriented_boundary_edges == 0 && non_manifold_boundary_nodes == 0 &&
-           hanging_nodes == 0;
+           hanging_nodes == 0 && boundary_faces_inside == 0;
   }
 };
 
-//! Checks a hex mesh for the defects listed in ConformityReport. A hanging node (one
+//! Checks a hex mesh for the defects listed in ConformityReport, the combinatorial ones and
+//! one geometric one (boundary faces inside the mesh). A hanging node (one
 //! side of a face refined, the other not) shows up as non-manifold boundary nodes and
 //! hanging nodes: the refined and unrefined sides each get their own boundary face.
 //! O(n log n); meant for tests and verification, not for inner loops. The boundary quads

@@ -311,7 +311,10 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
   timed_stage(result, progress, "measure", [&] {
     result.quality = measure_hex_quality(result.hexes);
     std::vector<std::array<int, 4>> quads;
-    result.conforming = check_conformity(result.hexes, &quads).conforming();
+    const ConformityReport conformity = check_conformity(result.hexes, &quads);
+    result.conforming = conformity.conforming();
+    result.boundary_faces_inside = conformity.boundary_faces_inside;
+    result.first_inside_point = conformity.first_inside_point;
     const TriSurface boundary = quads_to_triangles(result.hexes.nodes, quads);
     result.hex_volume = enclosed_volume(boundary);
     const TriangleBvh boundary_bvh(boundary);
@@ -319,7 +322,10 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
     result.hausdorff = distance.hausdorff;
     result.mean_distance = distance.mean;
     result.worst_hexes = worst_by(result.quality.scaled_jacobian, 10);
-    return count_text("inverted", result.quality.inverted);
+    std::string text = count_text("inverted", result.quality.inverted);
+    if (result.boundary_faces_inside > 0)
+      text += ", " + count_text("boundary faces", result.boundary_faces_inside) + " inside the mesh";
+    return text;
   });
   // Poor hexes left with the wall-thickness sizing off: are thin walls the likely cause?
   const bool poor = result.quality.inverted > 0 || result.quality.below_0_2 > 0;
@@ -334,6 +340,13 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
     std::ostringstream out;
     out << input_path << ": " << result.quality.inverted << " hexes remain inverted (worst: hex "
         << result.worst_hexes.front() << ", scaled Jacobian " << result.quality.scaled_jacobian_stats.min
+        << "); --strict writes nothing";
+    throw MeshingError(out.str());
+  }
+  if (options.strict && result.boundary_faces_inside > 0) {
+    std::ostringstream out;
+    out << input_path << ": " << result.boundary_faces_inside
+        << " boundary faces lie inside the mesh (first near " << result.first_inside_point.transpose()
         << "); --strict writes nothing";
     throw MeshingError(out.str());
   }

@@ -59,6 +59,10 @@ struct PipelineResult {
   HexMesh hexes;
   HexQuality quality;
   bool conforming = false;
+  //! Boundary faces lying inside the mesh (the boundary folded into the volume), and the
+  //! probe point of the first: part of `conforming`, named apart because it is geometric.
+  size_t boundary_faces_inside = 0;
+  Vec3 first_inside_point = Vec3::Zero();
   double hausdorff = 0, mean_distance = 0;  //!< hex boundary vs input, input units
   double hex_volume = 0;
   size_t inverted_before_untangle = 0;

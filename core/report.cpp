@@ -80,6 +80,13 @@ std::string summary_table(const PipelineResult& r, const PipelineOptions& o) {
       out << " " << r.worst_hexes[i] << " (SJ " << r.quality.scaled_jacobian[r.worst_hexes[i]] << ")";
     out << "\n";
   }
+  if (r.boundary_faces_inside > 0) {
+    char where[160];
+    std::snprintf(where, sizeof where, "(%.6g, %.6g, %.6g)", r.first_inside_point.x(), r.first_inside_point.y(),
+                  r.first_inside_point.z());
+    out << "  WARNING: " << r.boundary_faces_inside
+        << " boundary faces lie inside the mesh (its boundary folds into its own volume), the first near " << where << "\n";
+  }
   // Thin walls sized by curvature alone are the commonest cause of poor hexes left over.
   const bool poor = r.quality.inverted > 0 || r.quality.below_0_2 > 0;
   if (poor && !o.thex_only && o.thickness_ratio <= 0 && r.thin_wall_vertices * 20 >= r.input_summary.vertices)
@@ -117,6 +124,7 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
               {"inverted_before_untangle", r.inverted_before_untangle},
               {"scaled_jacobian_below_0_2", r.quality.below_0_2},
               {"conforming", r.conforming},
+              {"boundary_faces_inside", r.boundary_faces_inside},
               {"volume", r.hex_volume},
               {"worst_hexes", r.worst_hexes},
               {"shape_histogram", {{"lo", 0.0}, {"hi", 1.0}, {"counts", histogram(r.quality.shape, 20, 0.0, 1.0)}}},

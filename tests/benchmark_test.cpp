@@ -65,7 +65,7 @@ TEST(Benchmark, CsvRowsAreThePipelinesNumbers) {
   std::vector<std::string> header;
   const std::vector<CsvRow> rows = read_csv(csv, header);
   for (const char* column : {"mesh", "method", "status", "nodes", "hexes", "shape_avg", "shape_std", "shape_min",
-                             "shape_max", "sj_min", "inverted", "hausdorff_pct", "volume_error_pct", "t_tetrahedralize",
+                             "shape_max", "sj_min", "inverted", "conforming", "boundary_faces_inside", "hausdorff_pct", "volume_error_pct", "t_tetrahedralize",
                              "total_seconds", "peak_mb"})
     EXPECT_NE(std::find(header.begin(), header.end(), column), header.end()) << column;
   ASSERT_EQ(rows.size(), 2u);
@@ -82,6 +82,8 @@ TEST(Benchmark, CsvRowsAreThePipelinesNumbers) {
     EXPECT_EQ(std::stoul(row.at("nodes")), r.hexes.nodes.size());
     EXPECT_EQ(std::stoul(row.at("hexes")), r.hexes.hexes.size());
     EXPECT_EQ(std::stoul(row.at("inverted")), r.quality.inverted);
+    EXPECT_EQ(row.at("conforming"), r.conforming ? "yes" : "no");
+    EXPECT_EQ(std::stoul(row.at("boundary_faces_inside")), r.boundary_faces_inside);
     EXPECT_NEAR(std::stod(row.at("shape_avg")), r.quality.shape_stats.avg, 1e-8);
     EXPECT_NEAR(std::stod(row.at("shape_std")), r.quality.shape_stats.std_dev, 1e-8);
     EXPECT_NEAR(std::stod(row.at("shape_min")), r.quality.shape_stats.min, 1e-8);

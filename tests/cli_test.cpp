@@ -127,6 +127,7 @@ TEST(Cli, MeshesTheIcosahedronAndTheReportAgreesWithTheReferee) {
   EXPECT_NEAR(h["shape"]["avg"].get<double>(), j["hex"]["shape"]["avg"].get<double>(), 1e-9);
   EXPECT_NEAR(h["shape"]["min"].get<double>(), j["hex"]["shape"]["min"].get<double>(), 1e-9);
   EXPECT_NEAR(h["scaled_jacobian"]["min"].get<double>(), j["hex"]["scaled_jacobian"]["min"].get<double>(), 1e-9);
+  EXPECT_EQ(h["boundary_faces_inside_mesh"].get<size_t>(), j["hex"]["boundary_faces_inside"].get<size_t>());
 }
 
 TEST(Cli, DefaultsMeetThePapersSphereTargetAndJudgeInPlaceDoesNot) {

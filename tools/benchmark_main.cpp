@@ -45,6 +45,8 @@ const std::vector<std::string> kStages = {"read",  "verify", "choose eps", "coar
 struct Row {
   std::string mesh, method, status = "ok", message;
   size_t input_triangles = 0, coarse_triangles = 0, tets = 0, nodes = 0, hexes = 0, inverted = 0;
+  bool conforming = false;
+  size_t boundary_faces_inside = 0;  //!< the boundary folded into the mesh (geometric conformity)
   double shape_avg = 0, shape_std = 0, shape_min = 0, shape_max = 0, sj_min = 0;
   double hausdorff_percent = 0, volume_error_percent = 0;
   std::map<std::string, double> stage_seconds;
@@ -66,6 +68,8 @@ void read_report(const nlohmann::json& j, Row& row) {
   row.nodes = hex["nodes"];
   row.hexes = hex["hexes"];
   row.inverted = hex["inverted"];
+  row.conforming = hex["conforming"];
+  row.boundary_faces_inside = hex["boundary_faces_inside"];
   row.shape_avg = hex["shape"]["avg"];
   row.shape_std = hex["shape"]["std"];
   row.shape_min = hex["shape"]["min"];
@@ -196,8 +200,8 @@ std::string fixed(double v, int precision) {
 std::vector<std::string> csv_header() {
   std::vector<std::string> h = {"mesh",      "method",    "status",   "input_triangles", "coarse_triangles",
                                 "tets",      "nodes",     "hexes",    "shape_avg",       "shape_std",
-                                "shape_min", "shape_max", "sj_min",   "inverted",        "hausdorff_pct",
-                                "volume_error_pct"};
+                                "shape_min", "shape_max", "sj_min",   "inverted",        "conforming",
+                                "boundary_faces_inside", "hausdorff_pct", "volume_error_pct"};
   for (const auto& s : kStages) h.push_back(column_name(s));
   h.insert(h.end(), {"t_other", "total_seconds", "peak_mb", "message"});
   return h;
@@ -230,6 +234,8 @@ std::vector<std::string> csv_fields(const Row& r) {
                                 num(r.shape_max),
                                 num(r.sj_min),
                                 std::to_string(r.inverted),
+                                r.conforming ? "yes" : "no",
+                                std::to_string(r.boundary_faces_inside),
                                 num(r.hausdorff_percent),
                                 num(r.volume_error_percent)};
   for (const auto& s : kStages) {
@@ -259,11 +265,17 @@ void write_csv(const std::vector<Row>& rows, const std::string& path) {
   if (!file) throw std::runtime_error("cannot write " + path);
 }
 
+// "yes", or "NO" with the boundary faces lying inside the mesh when that is why.
+std::string conforming_text(const Row& r) {
+  if (r.conforming) return "yes";
+  return r.boundary_faces_inside > 0 ? "NO (" + std::to_string(r.boundary_faces_inside) + " faces inside)" : "NO";
+}
+
 // One table of the headline columns and one of the seconds per stage, as aligned text or Markdown.
 std::string tables(const std::vector<Row>& rows, bool markdown) {
   std::vector<std::vector<std::string>> quality = {{"mesh", "method", "triangles", "nodes", "hexes", "shape avg",
                                                     "shape std", "shape min", "shape max", "min SJ", "inverted",
-                                                    "Hausdorff %", "volume err %", "seconds", "peak MB"}};
+                                                    "conforming", "Hausdorff %", "volume err %", "seconds", "peak MB"}};
   std::vector<std::vector<std::string>> timing = {{"mesh", "method"}};
   std::vector<std::string> stages_seen;
   for (const auto& s : kStages)
@@ -290,7 +302,7 @@ std::string tables(const std::vector<Row>& rows, bool markdown) {
     quality.push_back({r.mesh, r.method, std::to_string(r.input_triangles), std::to_string(r.nodes),
                        std::to_string(r.hexes), fixed(r.shape_avg, 3), fixed(r.shape_std, 3), fixed(r.shape_min, 3),
                        fixed(r.shape_max, 3), fixed(r.sj_min, 3), std::to_string(r.inverted),
-                       fixed(r.hausdorff_percent, 3), fixed(r.volume_error_percent, 2), fixed(r.total_seconds, 2),
+                       conforming_text(r), fixed(r.hausdorff_percent, 3), fixed(r.volume_error_percent, 2), fixed(r.total_seconds, 2),
                        fixed(r.peak_mb, 0)});
     std::vector<std::string> line = {r.mesh, r.method};
     for (const auto& s : stages_seen) {
