@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <iomanip>
 #include <cmath>
 #include <numeric>
 #include <sstream>
@@ -178,10 +179,13 @@ PipelineResult read_and_verify(const std::string& input_path, Progress& progress
   return result;
 }
 
-PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions& options, Progress& progress) {
-  const auto start = Clock::now();
-  PipelineResult result = read_and_verify(input_path, progress);
-  const TriangleBvh input_bvh(result.input);
+namespace {
+
+// Every stage after verification, into `result` (which holds the verified input).
+void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, const PipelineOptions& options,
+                         Progress& progress) {
+  const std::string& input_path = result.input_path;
+  result.thickness_ratio_used = options.thickness_ratio;
   result.eps = options.eps;
   if (options.target_nodes > 0 && !options.thex_only) {
     timed_stage(result, progress, "choose eps", [&] {
@@ -334,6 +338,69 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
       result.thin_wall_vertices = count_thin_wall_vertices(result.input, coarsen_options_for(options, result.eps));
       return count_text("input vertices", result.thin_wall_vertices) + " on walls thinner than their size";
     });
+}
+
+// The order in which two meshes of one input are preferred: a conforming mesh, then fewer
+// inverted hexes, then the higher minimum scaled Jacobian.
+bool better_mesh(const PipelineResult& a, const PipelineResult& b) {
+  if (a.conforming != b.conforming) return a.conforming;
+  if (a.quality.inverted != b.quality.inverted) return a.quality.inverted < b.quality.inverted;
+  return a.quality.scaled_jacobian_stats.min > b.quality.scaled_jacobian_stats.min;
+}
+
+std::string min_sj_text(const PipelineResult& r) {
+  std::ostringstream out;
+  out << "min scaled Jacobian " << std::setprecision(3) << r.quality.scaled_jacobian_stats.min;
+  if (r.quality.inverted) out << ", " << count_text("inverted", r.quality.inverted);
+  if (!r.conforming) out << ", not conforming";
+  return out.str();
+}
+
+}  // namespace
+
+PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions& options, Progress& progress) {
+  const auto start = Clock::now();
+  PipelineResult result = read_and_verify(input_path, progress);
+  const TriangleBvh input_bvh(result.input);
+  const size_t verify_stages = result.stages.size();
+  mesh_verified_input(result, input_bvh, options, progress);
+
+  // Thin walls sized by curvature alone are the commonest cause of poor hexes; when they are
+  // the likely cause here, mesh again sized by the thickness and keep the better mesh.
+  const bool poor = result.quality.inverted > 0 || result.quality.below_0_2 > 0;
+  if (options.thickness_retry && options.thickness_ratio <= 0 && options.target_nodes == 0 && !options.thex_only &&
+      options.project && poor && result.thin_wall_vertices * 20 >= result.input_summary.vertices) {
+    PipelineResult retry;
+    retry.input_path = result.input_path;
+    retry.input = result.input;
+    retry.input_summary = result.input_summary;
+    retry.stages.assign(result.stages.begin(), result.stages.begin() + long(verify_stages));
+    PipelineOptions thickness_options = options;
+    thickness_options.thickness_ratio = 1;
+    mesh_verified_input(retry, input_bvh, thickness_options, progress);
+    // The seconds of each mesh's own stages (after the shared read and verify).
+    auto meshing_seconds = [&](const PipelineResult& r) {
+      double sum = 0;
+      for (size_t i = verify_stages; i < r.stages.size(); ++i) sum += r.stages[i].seconds;
+      return sum;
+    };
+    const bool keep_retry = better_mesh(retry, result);
+    std::ostringstream out;
+    out << result.thin_wall_vertices << " of " << result.input_summary.vertices
+        << " input vertices lie on walls thinner than their curvature size, so the input was meshed twice:\n"
+        << "  sized by curvature (" << min_sj_text(result) << ") and by wall thickness, --thickness-ratio 1 ("
+        << min_sj_text(retry) << ");\n  kept the " << (keep_retry ? "thickness" : "curvature") << "-sized mesh";
+    const size_t thin = result.thin_wall_vertices;
+    if (keep_retry) {  // the kept mesh's stages, and the first try as one line
+      const StageRecord first{"curvature-sized try", meshing_seconds(result), min_sj_text(result)};
+      result = std::move(retry);
+      result.stages.insert(result.stages.begin() + long(verify_stages), first);
+    } else {
+      result.stages.push_back(StageRecord{"thickness-sized try", meshing_seconds(retry), min_sj_text(retry)});
+    }
+    result.thickness_retry = out.str();
+    result.thin_wall_vertices = thin;
+  }
 
   result.total_seconds = seconds_since(start);
   if (options.strict && result.quality.inverted > 0) {

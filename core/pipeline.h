@@ -21,6 +21,12 @@ struct PipelineOptions {
   //! Size at most this x the wall thickness; 0 = curvature alone (see
   //! CoarsenOptions::max_size_per_thickness for what each gives).
   double thickness_ratio = 0;
+  //! With thickness_ratio 0: when the curvature-sized mesh ends with poor hexes (inverted or
+  //! scaled Jacobian below 0.2) and at least 5% of the input vertices lie on walls thinner
+  //! than their size, mesh again with thickness_ratio 1 and keep the better of the two
+  //! (conforming first, then fewer inverted hexes, then the higher minimum scaled Jacobian).
+  //! Not with target_nodes (the second mesh would miss the budget).
+  bool thickness_retry = true;
   bool thex_only = false;           //!< classic THex of the input: no coarsening, dicing, projection
   bool project = true;              //!< put the boundary back on the input surface
   bool strict = false;              //!< fail (MeshingError) if an inverted hex remains
@@ -69,6 +75,10 @@ struct PipelineResult {
   //! Input vertices sized by wall thickness (--thickness-ratio) or, with that off and poor
   //! hexes left, on walls thinner than their size (what the summary's hint counts).
   size_t thin_wall_vertices = 0;
+  //! The thickness ratio the kept mesh was sized with, and what the automatic retry did
+  //! (PipelineOptions::thickness_retry): "" when it did not run, else a sentence for the summary.
+  double thickness_ratio_used = 0;
+  std::string thickness_retry;
   std::vector<size_t> worst_hexes;          //!< ids of the worst hexes by scaled Jacobian
   std::vector<StageRecord> stages;
   double total_seconds = 0;

@@ -89,7 +89,9 @@ std::string summary_table(const PipelineResult& r, const PipelineOptions& o) {
   }
   // Thin walls sized by curvature alone are the commonest cause of poor hexes left over.
   const bool poor = r.quality.inverted > 0 || r.quality.below_0_2 > 0;
-  if (poor && !o.thex_only && o.thickness_ratio <= 0 && r.thin_wall_vertices * 20 >= r.input_summary.vertices)
+  if (!r.thickness_retry.empty())
+    out << "  thin walls: " << r.thickness_retry << "\n";
+  else if (poor && !o.thex_only && o.thickness_ratio <= 0 && r.thin_wall_vertices * 20 >= r.input_summary.vertices)
     out << "  hint: " << r.thin_wall_vertices << " of " << r.input_summary.vertices
         << " input vertices lie on walls thinner than their coarse size; --thickness-ratio 1 sizes such walls by their\n"
            "  thickness (more nodes, better hexes: the shared pelvis went from min scaled Jacobian 0.04 to 0.21)\n";
@@ -106,6 +108,7 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
                   {"dice", o.dice},
                   {"h_max", o.h_max},
                   {"thickness_ratio", o.thickness_ratio},
+                  {"thickness_retry", o.thickness_retry},
                   {"thex_only", o.thex_only},
                   {"project", o.project},
                   {"strict", o.strict},
@@ -114,6 +117,8 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
   if (!o.thex_only) {
     j["coarse"] = surface_json(r.coarse_summary);
     j["coarse"]["thin_wall_input_vertices"] = r.thin_wall_vertices;
+    j["coarse"]["thickness_ratio_used"] = r.thickness_ratio_used;
+    j["coarse"]["thickness_retry"] = r.thickness_retry;
   }
   j["tets"] = {{"count", r.tets}, {"shape", stats_json(r.tet_shape)}};
   j["hex"] = {{"nodes", r.hexes.nodes.size()},

@@ -114,6 +114,7 @@ TEST(WallThickness, ThinPlateGetsBetterHexesSizedByThicknessAndTheSummarySaysSo)
   Progress quiet;
   PipelineOptions curvature_only, by_thickness;
   curvature_only.thickness_ratio = 0;
+  curvature_only.thickness_retry = false;  // the paper's sizing alone (--thickness-ratio 0)
   by_thickness.thickness_ratio = 1;
   const PipelineResult flat = run_pipeline(path, curvature_only, quiet);
   const PipelineResult sized = run_pipeline(path, by_thickness, quiet);
@@ -128,4 +129,40 @@ TEST(WallThickness, ThinPlateGetsBetterHexesSizedByThicknessAndTheSummarySaysSo)
   ASSERT_GT(flat.quality.below_0_2, 0u);
   EXPECT_NE(summary_table(flat, curvature_only).find("--thickness-ratio 1"), std::string::npos);
   EXPECT_EQ(summary_table(sized, by_thickness).find("hint:"), std::string::npos);
+}
+
+TEST(WallThickness, DefaultMeshesAThinPlateTwiceAndKeepsTheThicknessSizedMesh) {
+  // --thickness-ratio auto: the curvature-sized plate has poor hexes on a thin wall, so the
+  // pipeline meshes it again sized by thickness and keeps that mesh, which is exactly the
+  // mesh --thickness-ratio 1 gives. A thick box has nothing to retry.
+  const auto dir = dthex_test::fresh_dir("thin_plate_auto");
+  const std::string plate = (dir / "plate.off").string(), box = (dir / "box.off").string();
+  write_surface(box_surface(Vec3(0, 0, 0), Vec3(4, 4, 0.5), 12), plate);
+  write_surface(box_surface(Vec3(0, 0, 0), Vec3(4, 4, 4), 12), box);
+  Progress quiet;
+  PipelineOptions automatic, by_thickness;
+  ASSERT_TRUE(automatic.thickness_retry);  // the default
+  by_thickness.thickness_ratio = 1;
+  const PipelineResult kept = run_pipeline(plate, automatic, quiet);
+  const PipelineResult sized = run_pipeline(plate, by_thickness, quiet);
+  EXPECT_EQ(kept.thickness_ratio_used, 1.0);
+  EXPECT_EQ(kept.hexes.nodes.size(), sized.hexes.nodes.size());
+  EXPECT_EQ(kept.quality.scaled_jacobian_stats.min, sized.quality.scaled_jacobian_stats.min);
+  EXPECT_NE(kept.thickness_retry.find("kept the thickness-sized mesh"), std::string::npos) << kept.thickness_retry;
+  const std::string summary = summary_table(kept, automatic);
+  EXPECT_NE(summary.find("meshed twice"), std::string::npos) << summary;
+  EXPECT_EQ(summary.find("hint:"), std::string::npos) << summary;
+  // The first try is one stage line, and the stages still add up to no more than the total.
+  double stages = 0;
+  bool first_try_listed = false;
+  for (const auto& stage : kept.stages) {
+    stages += stage.seconds;
+    first_try_listed |= stage.name == "curvature-sized try";
+  }
+  EXPECT_TRUE(first_try_listed);
+  EXPECT_LE(stages, kept.total_seconds + 1e-6);
+
+  const PipelineResult thick = run_pipeline(box, automatic, quiet);
+  EXPECT_TRUE(thick.thickness_retry.empty()) << thick.thickness_retry;
+  EXPECT_EQ(thick.thickness_ratio_used, 0.0);
 }

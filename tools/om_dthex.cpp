@@ -169,12 +169,25 @@ int main(int argc, char** argv) {
                  "largest coarse edge length, in input units (0 = automatic: half the bounding-box diagonal; flat regions are bounded by their outline)")
       ->default_val(0.0)
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--thickness-ratio", cl.pipeline.thickness_ratio,
+  std::string thickness_ratio = "auto";
+  app.add_option("--thickness-ratio", thickness_ratio,
                  "largest target edge length in wall thicknesses, for thin-walled inputs (a pelvis wing, a skull vault):\n"
-                 "where a wall is thinner than the curvature size, the size follows the thickness; 1 is a good value.\n"
-                 "0 (default) = curvature alone, as the paper; the summary suggests 1 when poor hexes remain on thin walls")
-      ->default_val(0.0)
-      ->check(CLI::NonNegativeNumber);
+                 "where a wall is thinner than the curvature size, the size follows the thickness. 0 = curvature alone,\n"
+                 "as the paper; 1 is a good value. auto (default): curvature alone, and when that leaves poor hexes\n"
+                 "(inverted, or scaled Jacobian < 0.2) with 5% or more of the input on walls thinner than their size,\n"
+                 "mesh again at 1 and keep the better mesh (conforming, fewer inverted, higher min scaled Jacobian);\n"
+                 "auto does not retry with --target-nodes")
+      ->default_val("auto")
+      ->check(CLI::Validator(
+          [](std::string& value) -> std::string {
+            if (value == "auto") return "";
+            char* end = nullptr;
+            const double ratio = std::strtod(value.c_str(), &end);
+            if (end == value.c_str() || *end != '\0' || !(ratio >= 0) || !std::isfinite(ratio))
+              return "must be auto or a number >= 0, not " + value;
+            return "";
+          },
+          "auto|NUMBER>=0"));
   app.add_option("--max-edge-ratio", cl.pipeline.max_edge_ratio,
                  "a collapse is refused if it makes an edge longer than this times the local size (normalized length)")
       ->default_val(std::sqrt(2.0))
@@ -214,6 +227,8 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+    cl.pipeline.thickness_retry = thickness_ratio == "auto";
+    cl.pipeline.thickness_ratio = cl.pipeline.thickness_retry ? 0.0 : std::stod(thickness_ratio);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {
