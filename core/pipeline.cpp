@@ -377,26 +377,37 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
     retry.stages.assign(result.stages.begin(), result.stages.begin() + long(verify_stages));
     PipelineOptions thickness_options = options;
     thickness_options.thickness_ratio = 1;
-    mesh_verified_input(retry, input_bvh, thickness_options, progress);
+    // A failure of the second try (TetGen refusing the finer surface, memory) must not cost
+    // the mesh already made: it is kept, and the summary says why the other is missing.
+    std::string retry_failure;
+    try {
+      mesh_verified_input(retry, input_bvh, thickness_options, progress);
+    } catch (const MeshingError& e) {
+      retry_failure = e.what();
+    } catch (const std::bad_alloc&) {
+      retry_failure = "out of memory";
+    }
     // The seconds of each mesh's own stages (after the shared read and verify).
     auto meshing_seconds = [&](const PipelineResult& r) {
       double sum = 0;
       for (size_t i = verify_stages; i < r.stages.size(); ++i) sum += r.stages[i].seconds;
       return sum;
     };
-    const bool keep_retry = better_mesh(retry, result);
+    const bool keep_retry = retry_failure.empty() && better_mesh(retry, result);
     std::ostringstream out;
     out << result.thin_wall_vertices << " of " << result.input_summary.vertices
         << " input vertices lie on walls thinner than their curvature size, so the input was meshed twice:\n"
         << "  sized by curvature (" << min_sj_text(result) << ") and by wall thickness, --thickness-ratio 1 ("
-        << min_sj_text(retry) << ");\n  kept the " << (keep_retry ? "thickness" : "curvature") << "-sized mesh";
+        << (retry_failure.empty() ? min_sj_text(retry) : "failed: " + retry_failure) << ");\n  kept the "
+        << (keep_retry ? "thickness" : "curvature") << "-sized mesh";
     const size_t thin = result.thin_wall_vertices;
     if (keep_retry) {  // the kept mesh's stages, and the first try as one line
       const StageRecord first{"curvature-sized try", meshing_seconds(result), min_sj_text(result)};
       result = std::move(retry);
       result.stages.insert(result.stages.begin() + long(verify_stages), first);
     } else {
-      result.stages.push_back(StageRecord{"thickness-sized try", meshing_seconds(retry), min_sj_text(retry)});
+      result.stages.push_back(StageRecord{"thickness-sized try", meshing_seconds(retry),
+                                          retry_failure.empty() ? min_sj_text(retry) : "failed: " + retry_failure});
     }
     result.thickness_retry = out.str();
     result.thin_wall_vertices = thin;
