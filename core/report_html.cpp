@@ -383,6 +383,8 @@ std::string comparison_table(const std::vector<std::pair<std::string, const Pipe
       {"below_0_2", "scaled Jacobian &lt; 0.2",
        [](const PipelineResult& r) { return std::to_string(r.quality.below_0_2); }},
       {"conforming", "conforming", [](const PipelineResult& r) { return std::string(r.conforming ? "yes" : "NO"); }},
+      {"boundary_faces_inside", "boundary faces inside the mesh",
+       [](const PipelineResult& r) { return std::to_string(r.boundary_faces_inside); }},
       {"hausdorff_percent", "Hausdorff, % of bbox diagonal",
        [](const PipelineResult& r) { return number(hausdorff_percent(r), 3); }},
       {"volume_error_percent", "volume error %",
