@@ -10,6 +10,7 @@
 #include "core/node_count.h"
 #include "core/project_boundary.h"
 #include "core/read_surface.h"
+#include "core/relax_interior_points.h"
 #include "core/remove_flat_valence3_vertices.h"
 #include "core/remove_boundary_edges.h"
 #include "core/split_surface_tets.h"
@@ -258,6 +259,16 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
       result.tet_shape = summarize(tet_shapes(tets));  // the tets THex gets
       return count_text("tets split", split.split_tets) + ", " + count_text("interior edges split", split.split_edges) +
              ", " + count_text("interior faces split", split.split_faces);
+    });
+    // The splits' points (and TetGen's) where the worst tet around each is best: THex hands a
+    // tet's shape on to its hexes, and a point just above a boundary face makes flat ones.
+    timed_stage(result, progress, "relax inner points", [&] {
+      const RelaxInteriorPointsReport relaxed = relax_interior_points(tets);
+      result.tet_shape = summarize(tet_shapes(tets));  // the tets THex gets
+      std::ostringstream out;
+      out << count_text("interior points moved", relaxed.moved) << ", worst tet shape " << relaxed.worst_before
+          << " -> " << relaxed.worst_after;
+      return out.str();
     });
   }
 
