@@ -4,7 +4,6 @@
 #include "core/quality.h"
 
 #include <algorithm>
-#include <numeric>
 
 namespace dthex {
 namespace {
