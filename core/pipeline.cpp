@@ -6,10 +6,12 @@
 #include "core/conformity.h"
 #include "core/dice.h"
 #include "core/flip_three_tet_edges.h"
+#include "core/flip_worst_tets.h"
 #include "core/local_smooth.h"
 #include "core/node_count.h"
 #include "core/project_boundary.h"
 #include "core/read_surface.h"
+#include "core/relax_interior_points.h"
 #include "core/remove_flat_valence3_vertices.h"
 #include "core/remove_boundary_edges.h"
 #include "core/split_surface_tets.h"
@@ -114,6 +116,7 @@ size_t predicted_nodes(const TriSurface& input, const PipelineOptions& options, 
     flip_three_tet_edges(tets);
     collapse_interior_vertices(tets);
     split_surface_tets(tets);
+    flip_worst_tets(tets);  // a 2-3 flip adds a tet; moving points (relax) adds nothing
   }
   return diced_thex_nodes(count_tet_entities(tets), options.dice);
 }
@@ -262,6 +265,26 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
       result.tet_shape = summarize(tet_shapes(tets));  // the tets THex gets
       return count_text("tets split", split.split_tets) + ", " + count_text("interior edges split", split.split_edges) +
              ", " + count_text("interior faces split", split.split_faces);
+    });
+    // Then the worst tets left (a boundary face with a point close above it, on thin walls):
+    // first other connectivity around them, then the interior points moved.
+    timed_stage(result, progress, "flip worst tets", [&] {
+      const FlipWorstTetsReport flips = flip_worst_tets(tets);
+      result.tets = tets.tets.size();
+      std::ostringstream out;
+      out << count_text("edges removed", flips.edge_removals) << ", " << count_text("faces flipped 2-3", flips.face_flips)
+          << ", worst tet shape " << flips.worst_before << " -> " << flips.worst_after;
+      return out.str();
+    });
+    // The splits' points (and TetGen's) where the worst tet around each is best: THex hands a
+    // tet's shape on to its hexes, and a point just above a boundary face makes flat ones.
+    timed_stage(result, progress, "relax inner points", [&] {
+      const RelaxInteriorPointsReport relaxed = relax_interior_points(tets);
+      result.tet_shape = summarize(tet_shapes(tets));  // the tets THex gets
+      std::ostringstream out;
+      out << count_text("interior points moved", relaxed.moved) << ", worst tet shape " << relaxed.worst_before
+          << " -> " << relaxed.worst_after;
+      return out.str();
     });
   }
 
