@@ -84,7 +84,8 @@ void relax(TetMesh& mesh, const std::vector<char>& on_boundary, const std::vecto
     }
     std::sort(order.begin(), order.end());
     size_t moved_this_pass = 0;
-    for (const auto& [start_worst, v] : order) {
+    for (const auto& entry : order) {
+      const auto v = entry.second;  // a plain local: lambdas below capture it (clang 14 cannot capture a binding)
       const auto& tets = star[size_t(v)];
       StarScore now = score_with(mesh, tets, v, mesh.points[size_t(v)]);  // neighbours may have moved
       const double floor = now.worst;  // no move may lower the point's worst tet
