@@ -400,6 +400,9 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
     retry.stages.assign(result.stages.begin(), result.stages.begin() + long(verify_stages));
     PipelineOptions thickness_options = options;
     thickness_options.thickness_ratio = 1;
+    progress.message("poor hexes (min scaled Jacobian " + std::to_string(result.quality.scaled_jacobian_stats.min) +
+                     ") and " + std::to_string(result.thin_wall_vertices) +
+                     " input vertices on thin walls: meshing again sized by wall thickness (--thickness-ratio 1)");
     // A failure of the second try (TetGen refusing the finer surface, memory) must not cost
     // the mesh already made: it is kept, and the summary says why the other is missing.
     std::string retry_failure;
