@@ -115,10 +115,7 @@ TEST(FlipWorstTets, LongEdgeWithThreeTetsIsRemoved) {
 // domain, boundary faces and points, still no interior edge or face of boundary vertices
 // only, and the worst tet does not fall.
 TEST(FlipWorstTets, CoarseVertebraKeepsItsBoundaryAndTheRule) {
-  TetMesh m = coarse_vertebra_without_boundary_edges();
-  flip_three_tet_edges(m);
-  collapse_interior_vertices(m);
-  split_surface_tets(m);
+  TetMesh m = coarse_vertebra_before_worst_tet_edits();
   const TetMesh before = m;
   ASSERT_EQ(bad_entities(m).edges + bad_entities(m).faces, 0u);
   FlipWorstTetsOptions options;

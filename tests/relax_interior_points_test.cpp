@@ -96,10 +96,7 @@ TEST(RelaxInteriorPoints, GoodStarsAreLeftAlone) {
 // points do not move, the worst tet does not fall, and the first relaxation (alone) lowers
 // the sum of the inverse shapes, which each of its moves lowers around the moved point.
 TEST(RelaxInteriorPoints, CoarseVertebraKeepsItsBoundaryAndGetsBetter) {
-  TetMesh m = coarse_vertebra_without_boundary_edges();
-  flip_three_tet_edges(m);
-  collapse_interior_vertices(m);
-  split_surface_tets(m);
+  TetMesh m = coarse_vertebra_before_worst_tet_edits();
   const TetMesh before = m;
   std::vector<char> on_boundary(m.points.size(), 0);
   for (const auto& f : m.boundary_faces)

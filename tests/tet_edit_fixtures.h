@@ -4,6 +4,8 @@
 #pragma once
 
 #include "core/coarsen.h"
+#include "core/collapse_interior_vertices.h"
+#include "core/flip_three_tet_edges.h"
 #include "core/read_surface.h"
 #include "core/remove_boundary_edges.h"
 #include "core/split_surface_tets.h"
@@ -71,6 +73,16 @@ inline TetMesh coarse_vertebra_without_boundary_edges() {
   TetMesh tets = tetrahedralize(coarse);
   cone_edge_clusters(tets);
   remove_boundary_edges(tets);
+  return tets;
+}
+
+// The same vertebra one step on, as THex would get it before the worst-tet edits: three-tet
+// edges flipped, interior points merged, surface tets split.
+inline TetMesh coarse_vertebra_before_worst_tet_edits() {
+  TetMesh tets = coarse_vertebra_without_boundary_edges();
+  flip_three_tet_edges(tets);
+  collapse_interior_vertices(tets);
+  split_surface_tets(tets);
   return tets;
 }
 
