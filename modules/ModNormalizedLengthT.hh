@@ -11,6 +11,7 @@
 #include <cmath>
 #include <functional>
 #include <stdexcept>
+#include <vector>
 
 namespace dthex {
 
@@ -156,6 +157,14 @@ class ModNormalizedLengthT : public OpenMesh::Decimater::ModBaseT<MeshT> {
         if (!edge_ok(pq, m.property(size, q))) return false;
       }
     // Triangles around B that survive with B replaced by A, and (if A moved) around A.
+    // The surface-normal test needs a closest-point query per triangle, the costliest part
+    // of coarsening, so it runs only once every cheap test of both rings has passed.
+    struct Changed {
+      Point centroid, n_new, n_old;
+      double ln, lo;
+    };
+    thread_local std::vector<Changed> changed;
+    changed.clear();
     auto triangles_ok = [&](typename MeshT::VertexHandle center, const Point& p_old) {
       for (auto h : m.voh_range(center)) {
         const auto f = m.face_handle(h);
@@ -168,15 +177,19 @@ class ModNormalizedLengthT : public OpenMesh::Decimater::ModBaseT<MeshT> {
         if (double(n_old | n_new) < cos_bound * lo * ln) return false;
         const double shape_new = triangle_shape(pA, a, b);
         if (shape_new < limits.min_shape && shape_new < triangle_shape(p_old, a, b)) return false;
-        Point reference;
-        if (surface_normal && (*surface_normal)((pA + a + b) / 3, reference)) {
-          const double cos_new = double(n_new | reference) / ln, cos_old = double(n_old | reference) / lo;
-          if (cos_new < cos_surface_bound && cos_new < cos_old) return false;
-        }
+        if (surface_normal) changed.push_back({(pA + a + b) / 3, n_new, n_old, ln, lo});
       }
       return true;
     };
-    return triangles_ok(ci.v0, ci.p0) && (!moved || triangles_ok(ci.v1, ci.p1));
+    if (!triangles_ok(ci.v0, ci.p0) || (moved && !triangles_ok(ci.v1, ci.p1))) return false;
+    for (const Changed& t : changed) {
+      Point reference;
+      if ((*surface_normal)(t.centroid, reference)) {
+        const double cos_new = double(t.n_new | reference) / t.ln, cos_old = double(t.n_old | reference) / t.lo;
+        if (cos_new < cos_surface_bound && cos_new < cos_old) return false;
+      }
+    }
+    return true;
   }
 
   OpenMesh::VPropHandleT<double> size_;

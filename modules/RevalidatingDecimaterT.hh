@@ -159,10 +159,34 @@ class RevalidatingDecimaterT : public OpenMesh::Decimater::BaseDecimaterT<MeshT>
 
   //! v's legal outgoing collapse of lowest priority (invalid handle if none). Priorities
   //! (geometry) are cheap next to the topology test, so that runs in priority order only
-  //! until one candidate passes.
+  //! until one candidate passes. With an estimate, candidates are ordered by it and fully
+  //! evaluated in that order: a legal collapse's priority equals its estimate's rank
+  //! (the estimate is a lower bound), so the first legal one is the best and the rest are
+  //! never evaluated; the full evaluation (closest-point queries on the input) dominated
+  //! coarsening when every outgoing collapse was evaluated.
   HalfedgeHandle best_collapse(VertexHandle v, float& priority) {
     candidates_.clear();
     if (mesh_.status(v).locked()) return HalfedgeHandle();
+    if (estimate_) {
+      for (auto h : mesh_.voh_range(v)) {
+        const float e = estimate_(CollapseInfo(mesh_, h));
+        if (e >= 0) candidates_.push_back({e, h.idx()});
+      }
+      std::sort(candidates_.begin(), candidates_.end());
+      float found = -1.f;
+      HalfedgeHandle best;
+      for (const auto& [e, h] : candidates_) {
+        if (best.is_valid() && e > found) break;  // no later candidate can beat it
+        const CollapseInfo ci(mesh_, HalfedgeHandle(h));
+        const float p = this->collapse_priority(ci);
+        if (p < 0 || (best.is_valid() && !(p < found))) continue;
+        if (!this->is_collapse_legal(ci)) continue;
+        found = p;
+        best = HalfedgeHandle(h);
+      }
+      priority = found;
+      return best;
+    }
     for (auto h : mesh_.voh_range(v)) {
       const float p = this->collapse_priority(CollapseInfo(mesh_, h));
       if (p >= 0) candidates_.push_back({p, h.idx()});
