@@ -100,45 +100,76 @@ void move_interior_harmonically(HexMesh& mesh, const std::vector<Vec3>& boundary
   // Jacobi-preconditioned conjugate gradients on the three coordinates at once (three
   // independent recurrences sharing each pass over the adjacency; the three Eigen solves
   // this replaces read the matrix three times through a slow self-adjoint product).
+  // Each iteration makes three passes over the unknowns (product with p(.q), updates with
+  // the preconditioned residual and its two dot products, new direction): the solve is
+  // memory bound, and seven separate passes cost twice as much. Passes run on all cores over
+  // fixed chunks whose partial sums are added in chunk order, so the result does not
+  // depend on the number of threads.
   const size_t m = 3 * size_t(n_unknowns);
   std::vector<double> x(m, 0.0), r = rhs, z(m), p(m), q(m);
   using Triple = std::array<double, 3>;
-  auto dot = [&](const std::vector<double>& a, const std::vector<double>& b) {
+  constexpr long kChunk = 4096;
+  const long n_chunks = (long(n_unknowns) + kChunk - 1) / kChunk;
+  std::vector<Triple> partial_a(static_cast<size_t>(n_chunks)), partial_b(static_cast<size_t>(n_chunks));
+  auto total = [](const std::vector<Triple>& parts) {
     Triple sum = {0, 0, 0};
-    for (size_t i = 0; i < m; i += 3)
-      for (size_t c = 0; c < 3; ++c) sum[c] += a[i + c] * b[i + c];
+    for (const Triple& part : parts)
+      for (size_t c = 0; c < 3; ++c) sum[c] += part[c];
     return sum;
   };
-  auto precondition = [&] {
-    for (size_t u = 0; u < size_t(n_unknowns); ++u)
-      for (size_t c = 0; c < 3; ++c) z[3 * u + c] = r[3 * u + c] / degree[u];
-  };
-  const Triple rhs_norm2 = dot(rhs, rhs);
-  precondition();
-  p = z;
-  Triple rz = dot(r, z), r2 = dot(r, r);
-  auto converged = [&](size_t c) { return r2[c] <= tolerance * tolerance * rhs_norm2[c]; };
-  for (int it = 0; it < max_iterations && !(converged(0) && converged(1) && converged(2)); ++it) {
-    for (size_t u = 0; u < size_t(n_unknowns); ++u) {
-      double s0 = degree[u] * p[3 * u], s1 = degree[u] * p[3 * u + 1], s2 = degree[u] * p[3 * u + 2];
-      for (int k = row_start[u]; k < row_start[u + 1]; ++k) {
-        const size_t w = 3 * size_t(neighbours[size_t(k)]);
-        s0 -= p[w], s1 -= p[w + 1], s2 -= p[w + 2];
-      }
-      q[3 * u] = s0, q[3 * u + 1] = s1, q[3 * u + 2] = s2;
+  Triple rhs_norm2 = {0, 0, 0}, rz = {0, 0, 0};
+  for (size_t u = 0; u < size_t(n_unknowns); ++u)
+    for (size_t c = 0; c < 3; ++c) {
+      const size_t i = 3 * u + c;
+      z[i] = p[i] = r[i] / degree[u];
+      rhs_norm2[c] += r[i] * r[i];
+      rz[c] += r[i] * z[i];
     }
-    const Triple pq = dot(p, q);
+  Triple r2 = rhs_norm2;
+  auto converged = [&](size_t c) { return r2[c] <= tolerance * tolerance * rhs_norm2[c]; };
+  const bool parallel = n_unknowns > 20000;
+  for (int it = 0; it < max_iterations && !(converged(0) && converged(1) && converged(2)); ++it) {
+#pragma omp parallel for schedule(static) if (parallel)
+    for (long chunk = 0; chunk < n_chunks; ++chunk) {
+      Triple pq = {0, 0, 0};
+      const size_t end = size_t(std::min(long(n_unknowns), (chunk + 1) * kChunk));
+      for (size_t u = size_t(chunk * kChunk); u < end; ++u) {
+        double s0 = degree[u] * p[3 * u], s1 = degree[u] * p[3 * u + 1], s2 = degree[u] * p[3 * u + 2];
+        for (int k = row_start[u]; k < row_start[u + 1]; ++k) {
+          const size_t w = 3 * size_t(neighbours[size_t(k)]);
+          s0 -= p[w], s1 -= p[w + 1], s2 -= p[w + 2];
+        }
+        q[3 * u] = s0, q[3 * u + 1] = s1, q[3 * u + 2] = s2;
+        pq[0] += p[3 * u] * s0, pq[1] += p[3 * u + 1] * s1, pq[2] += p[3 * u + 2] * s2;
+      }
+      partial_a[size_t(chunk)] = pq;
+    }
+    const Triple pq = total(partial_a);
     Triple alpha;
     for (size_t c = 0; c < 3; ++c) alpha[c] = converged(c) || !(pq[c] > 0) ? 0.0 : rz[c] / pq[c];
-    for (size_t i = 0; i < m; i += 3)
-      for (size_t c = 0; c < 3; ++c) x[i + c] += alpha[c] * p[i + c], r[i + c] -= alpha[c] * q[i + c];
-    precondition();
-    const Triple rz_new = dot(r, z);
-    r2 = dot(r, r);
+#pragma omp parallel for schedule(static) if (parallel)
+    for (long chunk = 0; chunk < n_chunks; ++chunk) {
+      Triple rz_part = {0, 0, 0}, r2_part = {0, 0, 0};
+      const size_t end = size_t(std::min(long(n_unknowns), (chunk + 1) * kChunk));
+      for (size_t u = size_t(chunk * kChunk); u < end; ++u)
+        for (size_t c = 0; c < 3; ++c) {
+          const size_t i = 3 * u + c;
+          x[i] += alpha[c] * p[i];
+          r[i] -= alpha[c] * q[i];
+          z[i] = r[i] / degree[u];
+          rz_part[c] += r[i] * z[i];
+          r2_part[c] += r[i] * r[i];
+        }
+      partial_a[size_t(chunk)] = rz_part;
+      partial_b[size_t(chunk)] = r2_part;
+    }
+    const Triple rz_new = total(partial_a);
+    r2 = total(partial_b);
     Triple beta;
     for (size_t c = 0; c < 3; ++c) beta[c] = rz[c] > 0 ? rz_new[c] / rz[c] : 0.0;
-    for (size_t i = 0; i < m; i += 3)
-      for (size_t c = 0; c < 3; ++c) p[i + c] = z[i + c] + beta[c] * p[i + c];
+#pragma omp parallel for schedule(static) if (parallel)
+    for (long i = 0; i < long(m); i += 3)
+      for (size_t c = 0; c < 3; ++c) p[size_t(i) + c] = z[size_t(i) + c] + beta[c] * p[size_t(i) + c];
     rz = rz_new;
   }
   for (size_t v = 0; v < n; ++v)
@@ -170,7 +201,15 @@ ProjectReport project_boundary(HexMesh& mesh, const TriSurface& coarse, const Tr
 
   ProjectReport report;
   std::vector<Vec3> displacement(mesh.nodes.size(), Vec3::Zero());
-  for (size_t v = 0; v < mesh.nodes.size(); ++v) {
+  // Every node is projected on its own (its query reads only the input), so the nodes are
+  // split over the cores.
+  size_t projected = 0, unconstrained = 0, far = 0;
+  double max_displacement = 0;
+  const long n_nodes = long(mesh.nodes.size());
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : projected, unconstrained, far) \
+    reduction(max : max_displacement)
+  for (long iv = 0; iv < n_nodes; ++iv) {
+    const size_t v = size_t(iv);
     const int facet = mesh.boundary_facet[v];
     if (facet < 0) continue;
     const Vec3& q = mesh.nodes[v];
@@ -180,16 +219,20 @@ ProjectReport project_boundary(HexMesh& mesh, const TriSurface& coarse, const Tr
         fine_bvh.closest_point(q, [&](int t) { return fine_normals[size_t(t)].dot(n) >= min_cos; });
     if (cp.triangle < 0) {
       cp = fine_bvh.closest_point(q);
-      ++report.unconstrained_nodes;
+      ++unconstrained;
     } else if (cp.distance_sq > reach_sq) {
-      ++report.far_nodes;
+      ++far;
     }
     if (cp.triangle < 0) continue;  // empty fine surface
     displacement[v] = cp.point - q;
     mesh.nodes[v] = cp.point;
-    ++report.projected_nodes;
-    report.max_displacement = std::max(report.max_displacement, std::sqrt(cp.distance_sq));
+    ++projected;
+    max_displacement = std::max(max_displacement, std::sqrt(cp.distance_sq));
   }
+  report.projected_nodes = projected;
+  report.unconstrained_nodes = unconstrained;
+  report.far_nodes = far;
+  report.max_displacement = max_displacement;
   if (options.move_interior)
     move_interior_harmonically(mesh, displacement, options.interior_max_iterations, options.interior_tolerance);
   return report;
