@@ -48,9 +48,11 @@ std::string summary_table(const PipelineResult& r, const PipelineOptions& o) {
   out << "\n";
   out << "  stage                  seconds  result\n";
   for (const auto& s : r.stages) {
-    char line[160];
-    std::snprintf(line, sizeof line, "  %-20s %9.3f  %s\n", s.name.c_str(), s.seconds, s.detail.c_str());
-    out << line;
+    // The detail is appended, not formatted into the buffer: a long one lost its end and
+    // the line break with it.
+    char line[96];
+    std::snprintf(line, sizeof line, "  %-20s %9.3f  ", s.name.c_str(), s.seconds);
+    out << line << s.detail << "\n";
   }
   char total[96];
   std::snprintf(total, sizeof total, "  %-20s %9.3f\n", "total", r.total_seconds);
