@@ -12,6 +12,7 @@
 #include "core/project_boundary.h"
 #include "core/read_surface.h"
 #include "core/relax_interior_points.h"
+#include "core/refine_flat_needles.h"
 #include "core/remove_flat_valence3_vertices.h"
 #include "core/remove_boundary_edges.h"
 #include "core/split_surface_tets.h"
@@ -104,6 +105,7 @@ TetgenOptions tetgen_options_for(const PipelineOptions& options) {
 size_t predicted_nodes(const TriSurface& input, const PipelineOptions& options, double eps) {
   TriSurface coarse = coarsen(input, coarsen_options_for(options, eps)).surface;
   if (options.project) remove_flat_valence3_vertices(coarse);
+  refine_flat_needles(coarse);
   try {
     verify_surface(coarse, "coarse surface");
   } catch (const InputError& e) {
@@ -213,6 +215,12 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
       // With projection, a flat three-triangle vertex would leave hexes no untangler makes good.
       const size_t flat = options.project ? remove_flat_valence3_vertices(result.coarse) : 0;
       if (flat) detail += ", " + count_text("flat three-triangle vertices removed", flat);
+      // Needles on flat cut faces would become sliver tets: refined in their plane.
+      const RefineFlatNeedlesReport needles = refine_flat_needles(result.coarse);
+      if (needles.vertices_added)
+        detail += ", " + std::to_string(needles.needles_before) + " needles on flat faces refined (" +
+                  count_text("vertices added", needles.vertices_added) + ", " + std::to_string(needles.needles_after) +
+                  " left)";
       return detail;
     });
     timed_stage(result, progress, "verify coarse", [&] {
