@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "core/untangle.h"
 
+#include "core/conformity.h"
+
 #include "core/quality.h"
 
 #include <Eigen/Dense>
@@ -165,27 +167,11 @@ class Untangler {
     deadline_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                    std::chrono::duration<double>(options.time_limit_seconds));
     const size_t n_nodes = mesh.nodes.size();
-    // Boundary quads: faces used by one hex only.
-    std::vector<std::pair<std::array<int, 4>, std::array<int, 4>>> faces;
-    faces.reserve(mesh.hexes.size() * 6);
-    for (const auto& h : mesh.hexes)
-      for (const auto& f : kHexFaces) {
-        std::array<int, 4> quad = {h[size_t(f[0])], h[size_t(f[1])], h[size_t(f[2])], h[size_t(f[3])]};
-        std::array<int, 4> key = quad;
-        std::sort(key.begin(), key.end());
-        faces.emplace_back(key, quad);
-      }
-    std::sort(faces.begin(), faces.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    // Boundary nodes: those of the faces used by one hex only, and those with a facet.
     is_boundary_.assign(n_nodes, false);
     for (size_t v = 0; v < n_nodes; ++v) is_boundary_[v] = mesh.is_boundary_node(int(v));
-    for (size_t i = 0; i < faces.size();) {
-      size_t j = i + 1;
-      while (j < faces.size() && faces[j].first == faces[i].first) ++j;
-      if (j - i == 1) {
-        for (int v : faces[i].second) is_boundary_[size_t(v)] = true;
-      }
-      i = j;
-    }
+    for (const auto& quad : boundary_quads(mesh))
+      for (int v : quad) is_boundary_[size_t(v)] = true;
     // Per-hex reference size (mean edge length) and per-node variable scale.
     hex_size_.resize(mesh.hexes.size());
     node_scale_.assign(n_nodes, 0.0);
