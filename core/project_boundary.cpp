@@ -100,23 +100,14 @@ void move_interior_harmonically(HexMesh& mesh, const std::vector<Vec3>& boundary
   // Jacobi-preconditioned conjugate gradients on the three coordinates at once (three
   // independent recurrences sharing each pass over the adjacency; the three Eigen solves
   // this replaces read the matrix three times through a slow self-adjoint product).
-  // Each iteration makes three passes over the unknowns (product with p(.q), updates with
-  // the preconditioned residual and its two dot products, new direction): the solve is
-  // memory bound, and seven separate passes cost twice as much. Passes run on all cores over
-  // fixed chunks whose partial sums are added in chunk order, so the result does not
-  // depend on the number of threads.
+  // Each iteration makes three passes over the unknowns (product with p and p.q; updates,
+  // preconditioned residual and its two dot products; new direction): the solve is memory
+  // bound, and seven separate passes cost twice as much. The passes stay on one core: split
+  // over two, every pass ends at a barrier, and on a busy machine (ctest -j2) each barrier
+  // waited for a descheduled thread, which made the stage three times slower.
   const size_t m = 3 * size_t(n_unknowns);
   std::vector<double> x(m, 0.0), r = rhs, z(m), p(m), q(m);
   using Triple = std::array<double, 3>;
-  constexpr long kChunk = 4096;
-  const long n_chunks = (long(n_unknowns) + kChunk - 1) / kChunk;
-  std::vector<Triple> partial_a(static_cast<size_t>(n_chunks)), partial_b(static_cast<size_t>(n_chunks));
-  auto total = [](const std::vector<Triple>& parts) {
-    Triple sum = {0, 0, 0};
-    for (const Triple& part : parts)
-      for (size_t c = 0; c < 3; ++c) sum[c] += part[c];
-    return sum;
-  };
   Triple rhs_norm2 = {0, 0, 0}, rz = {0, 0, 0};
   for (size_t u = 0; u < size_t(n_unknowns); ++u)
     for (size_t c = 0; c < 3; ++c) {
@@ -127,49 +118,34 @@ void move_interior_harmonically(HexMesh& mesh, const std::vector<Vec3>& boundary
     }
   Triple r2 = rhs_norm2;
   auto converged = [&](size_t c) { return r2[c] <= tolerance * tolerance * rhs_norm2[c]; };
-  const bool parallel = n_unknowns > 20000;
   for (int it = 0; it < max_iterations && !(converged(0) && converged(1) && converged(2)); ++it) {
-#pragma omp parallel for schedule(static) if (parallel)
-    for (long chunk = 0; chunk < n_chunks; ++chunk) {
-      Triple pq = {0, 0, 0};
-      const size_t end = size_t(std::min(long(n_unknowns), (chunk + 1) * kChunk));
-      for (size_t u = size_t(chunk * kChunk); u < end; ++u) {
-        double s0 = degree[u] * p[3 * u], s1 = degree[u] * p[3 * u + 1], s2 = degree[u] * p[3 * u + 2];
-        for (int k = row_start[u]; k < row_start[u + 1]; ++k) {
-          const size_t w = 3 * size_t(neighbours[size_t(k)]);
-          s0 -= p[w], s1 -= p[w + 1], s2 -= p[w + 2];
-        }
-        q[3 * u] = s0, q[3 * u + 1] = s1, q[3 * u + 2] = s2;
-        pq[0] += p[3 * u] * s0, pq[1] += p[3 * u + 1] * s1, pq[2] += p[3 * u + 2] * s2;
+    Triple pq = {0, 0, 0};
+    for (size_t u = 0; u < size_t(n_unknowns); ++u) {
+      double s0 = degree[u] * p[3 * u], s1 = degree[u] * p[3 * u + 1], s2 = degree[u] * p[3 * u + 2];
+      for (int k = row_start[u]; k < row_start[u + 1]; ++k) {
+        const size_t w = 3 * size_t(neighbours[size_t(k)]);
+        s0 -= p[w], s1 -= p[w + 1], s2 -= p[w + 2];
       }
-      partial_a[size_t(chunk)] = pq;
+      q[3 * u] = s0, q[3 * u + 1] = s1, q[3 * u + 2] = s2;
+      pq[0] += p[3 * u] * s0, pq[1] += p[3 * u + 1] * s1, pq[2] += p[3 * u + 2] * s2;
     }
-    const Triple pq = total(partial_a);
     Triple alpha;
     for (size_t c = 0; c < 3; ++c) alpha[c] = converged(c) || !(pq[c] > 0) ? 0.0 : rz[c] / pq[c];
-#pragma omp parallel for schedule(static) if (parallel)
-    for (long chunk = 0; chunk < n_chunks; ++chunk) {
-      Triple rz_part = {0, 0, 0}, r2_part = {0, 0, 0};
-      const size_t end = size_t(std::min(long(n_unknowns), (chunk + 1) * kChunk));
-      for (size_t u = size_t(chunk * kChunk); u < end; ++u)
-        for (size_t c = 0; c < 3; ++c) {
-          const size_t i = 3 * u + c;
-          x[i] += alpha[c] * p[i];
-          r[i] -= alpha[c] * q[i];
-          z[i] = r[i] / degree[u];
-          rz_part[c] += r[i] * z[i];
-          r2_part[c] += r[i] * r[i];
-        }
-      partial_a[size_t(chunk)] = rz_part;
-      partial_b[size_t(chunk)] = r2_part;
-    }
-    const Triple rz_new = total(partial_a);
-    r2 = total(partial_b);
+    Triple rz_new = {0, 0, 0};
+    r2 = {0, 0, 0};
+    for (size_t u = 0; u < size_t(n_unknowns); ++u)
+      for (size_t c = 0; c < 3; ++c) {
+        const size_t i = 3 * u + c;
+        x[i] += alpha[c] * p[i];
+        r[i] -= alpha[c] * q[i];
+        z[i] = r[i] / degree[u];
+        rz_new[c] += r[i] * z[i];
+        r2[c] += r[i] * r[i];
+      }
     Triple beta;
     for (size_t c = 0; c < 3; ++c) beta[c] = rz[c] > 0 ? rz_new[c] / rz[c] : 0.0;
-#pragma omp parallel for schedule(static) if (parallel)
-    for (long i = 0; i < long(m); i += 3)
-      for (size_t c = 0; c < 3; ++c) p[size_t(i) + c] = z[size_t(i) + c] + beta[c] * p[size_t(i) + c];
+    for (size_t i = 0; i < m; i += 3)
+      for (size_t c = 0; c < 3; ++c) p[i + c] = z[i + c] + beta[c] * p[i + c];
     rz = rz_new;
   }
   for (size_t v = 0; v < n; ++v)
