@@ -41,7 +41,8 @@ class FoldRepairer {
   }
 
   //! Works on the hexes within `rings` rings of `seeds` (one connected group of folds).
-  void repair_region(const std::vector<int>& seeds, int rings) {
+  void repair_region(const std::vector<int>& seeds, int rings, bool off_surface) {
+    off_surface_ = off_surface;
     // The region: seeds grown ring by ring through shared nodes; its nodes may move, nearest first.
     std::vector<int> hexes = seeds, node_order;
     std::unordered_map<int, int> hex_ring, node_ring;
@@ -293,7 +294,7 @@ class FoldRepairer {
         length += (u - x0).norm();
       }
     }
-    const double scale = length / double(2 * hexes.size());
+    const double scale = length / double(3 * hexes.size());  // 3 edges of each hex meet at v
     if (!(scale > 0) || !near_a_fold(v, options_.initial_step * scale)) return false;
 
     const bool boundary = !node_quads_[size_t(v)].empty();
@@ -312,11 +313,16 @@ class FoldRepairer {
         return true;
       }
       Vec3 cp = Vec3::Zero();
+      if (off_surface_) {  // anywhere within the allowed distance of the surface
+        out = x + d;
+        return surface_normal_at(out, &cp).squaredNorm() > 0 &&
+               (cp - out).norm() <= options_.max_off_surface * scale;
+      }
       if (surface_normal_at(x + d, &cp).squaredNorm() == 0 || (cp - (x + d)).norm() > d.norm()) return false;
       out = cp;
       return true;
     };
-    auto tangential = [&](const Vec3& d) { return boundary ? Vec3(d - d.dot(normal) * normal) : d; };
+    auto tangential = [&](const Vec3& d) { return boundary && !off_surface_ ? Vec3(d - d.dot(normal) * normal) : d; };
 
     bool moved = false;
     if (n > 0) {
@@ -329,7 +335,7 @@ class FoldRepairer {
         }
     }
     std::vector<Vec3> directions;
-    if (boundary) {
+    if (boundary && !off_surface_) {
       const Vec3 helper = std::abs(normal.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
       const Vec3 t1 = normal.cross(helper).normalized(), t2 = normal.cross(t1);
       for (int k = 0; k < 8; ++k) directions.push_back(std::cos(k * M_PI / 4) * t1 + std::sin(k * M_PI / 4) * t2);
@@ -368,6 +374,7 @@ class FoldRepairer {
   std::vector<unsigned> hex_stamp_;
   unsigned stamp_ = 0;
   double floor_ = 0, cell_ = 1;
+  bool off_surface_ = false;
   std::unordered_map<uint64_t, std::vector<int>> grid_;
   std::vector<int> tracked_;                   //!< quad ids whose fold is followed
   std::unordered_map<int, int> tracked_index_; //!< quad id -> position in tracked_
@@ -435,11 +442,14 @@ RepairBoundaryFoldsReport repair_boundary_folds(HexMesh& mesh, const TriangleBvh
   if (folds.faces_inside == 0) return report;
 
   FoldRepairer repairer(mesh, surface, quads, owners, options);
-  for (int rings = options.rings; rings <= options.max_rings && folds.faces_inside > 0; ++rings) {
-    const auto groups = fold_groups(mesh, folds, owners);
-    report.regions = std::max(report.regions, groups.size());
-    for (const auto& seeds : groups) repairer.repair_region(seeds, rings);
-    folds = find_boundary_faces_inside(mesh, quads, owners, options.probe);
+  for (bool off_surface : {false, true}) {
+    if (off_surface && !(options.max_off_surface > 0)) break;
+    for (int rings = options.rings; rings <= options.max_rings && folds.faces_inside > 0; ++rings) {
+      const auto groups = fold_groups(mesh, folds, owners);
+      report.regions = std::max(report.regions, groups.size());
+      for (const auto& seeds : groups) repairer.repair_region(seeds, rings, off_surface);
+      folds = find_boundary_faces_inside(mesh, quads, owners, options.probe);
+    }
   }
   report.region_min_scaled_jacobian_before = repairer.min_scaled_jacobian_around_moved(true);
   report.region_min_scaled_jacobian_after = repairer.min_scaled_jacobian_around_moved(false);

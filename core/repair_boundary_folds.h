@@ -36,6 +36,10 @@ struct RepairBoundaryFoldsOptions {
   //! Compass-search steps, as fractions of the node's mean edge length.
   double initial_step = 0.5;
   double min_step = 0.01;
+  //! Where sliding on the surface leaves folds (a slit narrower than a hex, whose two sides
+  //! one hex face spans), boundary nodes may then leave the surface by up to this fraction
+  //! of their mean edge length; 0: never.
+  double max_off_surface = 0.5;
   BoundaryOverlapOptions probe;  //!< the probe that decides which quads are folded
 };
 
