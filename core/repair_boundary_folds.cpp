@@ -60,15 +60,13 @@ class FoldRepairer {
     std::stable_sort(node_order.begin(), node_order.end(),
                      [&](int a, int b) { return node_ring[a] < node_ring[b]; });
 
-    // The floor, and where probes can matter: a box around the region, a margin of two of
+    // Where probes can matter: a box around the region, a margin of two of
     // its longest edges wide.
     Box box;
     double longest = 0;
-    double region_min = 1;
     for (int v : node_order) {
       box.extend(mesh_.nodes[size_t(v)]);
       for (int h : node_hexes_[size_t(v)]) {
-        region_min = std::min(region_min, hex_scaled_jacobian(hex_corners(mesh_, size_t(h))));
         for (const auto& e : kHexEdges)
           longest = std::max(longest, (mesh_.nodes[size_t(mesh_.hexes[size_t(h)][size_t(e[0])])] -
                                        mesh_.nodes[size_t(mesh_.hexes[size_t(h)][size_t(e[1])])]).norm());
@@ -76,7 +74,7 @@ class FoldRepairer {
     }
     box.min() -= Vec3::Constant(2 * longest);
     box.max() += Vec3::Constant(2 * longest);
-    floor_ = std::min(options_.min_scaled_jacobian, region_min);
+    floor_ = options_.min_scaled_jacobian;
 
     // The hexes that can hold a probe there, in a uniform grid of about one hex per cell.
     cell_ = std::max(longest, 1e-300);
@@ -226,10 +224,14 @@ class FoldRepairer {
     const auto& hexes = node_hexes_[size_t(v)];
     Box reach;
     for (int h : hexes) reach.extend(hex_box(h));
+    // Each hex keeps min(its value, the floor): no hex falls below the floor, and one already
+    // below it (around a fold the smoother could not raise) gets no worse.
+    floors_.clear();
+    for (int h : hexes) floors_.push_back(std::min(floor_, hex_scaled_jacobian(hex_corners(mesh_, size_t(h)))));
     mesh_.nodes[size_t(v)] = x;
     bool ok = true;
-    for (int h : hexes)
-      if (!(hex_scaled_jacobian(hex_corners(mesh_, size_t(h))) >= floor_)) {
+    for (size_t k = 0; k < hexes.size(); ++k)
+      if (!(hex_scaled_jacobian(hex_corners(mesh_, size_t(hexes[k]))) >= floors_[k])) {
         ok = false;
         break;
       }
@@ -380,6 +382,7 @@ class FoldRepairer {
   std::unordered_map<int, int> tracked_index_; //!< quad id -> position in tracked_
   std::vector<QuadFold> fold_;                 //!< per tracked quad
   std::vector<int> affected_;
+  std::vector<double> floors_;
   std::vector<QuadFold> trial_;
   std::unordered_map<int, Vec3> original_;     //!< first position of every node moved
 };

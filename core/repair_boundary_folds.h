@@ -29,9 +29,8 @@ struct RepairBoundaryFoldsOptions {
   int max_rings = 4;
   //! Sweeps over a region's nodes per ring count; stops early once its folds are gone.
   int sweeps = 12;
-  //! No moved node may leave a hex around it below min(this, the lowest scaled Jacobian of
-  //! the region's hexes before the repair): the repair never makes the mesh worse where it
-  //! was already poor, nor poor where it was good.
+  //! No moved node may leave a hex around it below min(this, the hex's scaled Jacobian
+  //! before the move): the repair makes no hex poor that was not, and no poor hex worse.
   double min_scaled_jacobian = 0.2;
   //! Compass-search steps, as fractions of the node's mean edge length.
   double initial_step = 0.5;
@@ -58,7 +57,7 @@ struct RepairBoundaryFoldsReport {
 //! boundary_quads() gives them) whose probe point lies inside a hex, and moves nodes around
 //! them until none does or nothing more helps. A move is kept only if it lowers the folds
 //! of the quads near it (their count, then how deep their probes lie) and keeps every hex
-//! around the node at or above the floor; boundary nodes move in the tangent plane of
+//! around the node at or above min(floor, its value); boundary nodes move in the tangent plane of
 //! `surface` and land back on it. When the count over the whole mesh has not fallen in the
 //! end, every node goes back. Without folds the mesh is untouched and the cost is one
 //! probe pass (faces_inside_after then equals what check_conformity would count).
