@@ -347,7 +347,9 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
       conformity = check_conformity(result.hexes, &quads, &owners);
       conformity_known = true;
       if (conformity.boundary_faces_inside == 0) return std::string("no boundary faces inside the mesh");
-      const RepairBoundaryFoldsReport report = repair_boundary_folds(result.hexes, input_bvh, quads, owners);
+      RepairBoundaryFoldsOptions repair_options;
+      repair_options.time_limit_seconds = options.time_limit_seconds;
+      const RepairBoundaryFoldsReport report = repair_boundary_folds(result.hexes, input_bvh, quads, owners, repair_options);
       if (report.moved_nodes > 0) conformity_known = false;
       std::ostringstream out;
       out << report.faces_inside_before << " boundary faces inside -> " << report.faces_inside_after;
@@ -356,6 +358,7 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
       else
         out << ", " << count_text("nodes moved", report.moved_nodes) << ", min scaled Jacobian around them "
             << report.region_min_scaled_jacobian_before << " -> " << report.region_min_scaled_jacobian_after;
+      if (report.time_limit_reached) out << " (time limit reached)";
       return out.str();
     });
   }

@@ -4,6 +4,7 @@
 #include "core/quality.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -16,13 +17,18 @@ constexpr int kHexEdges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6}
                                   {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
 
 using Box = Eigen::AlignedBox3d;
+using Clock = std::chrono::steady_clock;
 
 //! How folded one quad is: 0 when its probe lies in no hex, else 1 plus how deep it lies in
 //! the hex that holds it (parametric distance to that hex's nearest face, in [0, 0.5]). The
 //! depth lets a node that cannot yet free a probe still move it towards the way out.
+//! A quad turned over (facing against the input surface at its centre) counts too, as 1 plus
+//! how far it is turned: it is the fold line of a boundary that covers the surface twice,
+//! where the probes of the quads on either side end up in each other's hexes.
 struct QuadFold {
   Vec3 probe = Vec3::Zero();
   bool has_probe = false;
+  bool inside = false;  //!< the probe lies in a hex: what find_boundary_faces_inside counts
   double value = 0;
 };
 
@@ -38,6 +44,13 @@ class FoldRepairer {
     for (size_t q = 0; q < quads.size(); ++q)
       for (int v : quads[q]) node_quads_[size_t(v)].push_back(int(q));
     hex_stamp_.assign(mesh.hexes.size(), 0);
+    deadline_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                   std::chrono::duration<double>(options.time_limit_seconds));
+  }
+
+  bool out_of_time() {
+    if (!time_limit_reached_ && Clock::now() > deadline_) time_limit_reached_ = true;
+    return time_limit_reached_;
   }
 
   //! Works on the hexes within `rings` rings of `seeds` (one connected group of folds).
@@ -103,6 +116,7 @@ class FoldRepairer {
     for (int sweep = 0; sweep < options_.sweeps && folded_count() > 0; ++sweep) {
       bool moved = false;
       for (int v : node_order) {
+        if (out_of_time()) return;
         const Vec3 start = mesh_.nodes[size_t(v)];
         if (improve_node(v)) {
           moved = true;
@@ -183,13 +197,28 @@ class FoldRepairer {
     const auto it = grid_.find(cell_key(cell_of(f.probe)));
     if (it != grid_.end())
       for (int h : it->second) test(h);
-    if (deepest >= 0) f.value = 1 + deepest;
+    if (deepest >= 0) {
+      f.inside = true;
+      f.value = 1 + deepest;
+    }
+    const double facing = facing_of(q);
+    if (facing < 0) f.value += 1 - facing;
     return f;
+  }
+
+  // The cosine between quad q's normal and the input surface's normal nearest its centre.
+  double facing_of(int q) const {
+    const auto& r = quads_[size_t(q)];
+    const Vec3 a = mesh_.nodes[size_t(r[0])], b = mesh_.nodes[size_t(r[1])], c = mesh_.nodes[size_t(r[2])],
+               d = mesh_.nodes[size_t(r[3])];
+    const Vec3 normal = (b - a).cross(c - a) + (c - a).cross(d - a);
+    const double length = normal.norm();
+    return length > 0 ? normal.dot(surface_normal_at(0.25 * (a + b + c + d))) / length : 0.0;
   }
 
   size_t folded_count() const {
     size_t n = 0;
-    for (const QuadFold& f : fold_) n += f.value > 0;
+    for (const QuadFold& f : fold_) n += f.inside;
     return n;
   }
 
@@ -207,13 +236,7 @@ class FoldRepairer {
   // fold the probe may miss (the probe of a quad turned over can land in the gap below it).
   int quads_facing_inward(int v) const {
     int n = 0;
-    for (int q : node_quads_[size_t(v)]) {
-      const auto& r = quads_[size_t(q)];
-      const Vec3 a = mesh_.nodes[size_t(r[0])], b = mesh_.nodes[size_t(r[1])], c = mesh_.nodes[size_t(r[2])],
-                 d = mesh_.nodes[size_t(r[3])];
-      const Vec3 normal = (b - a).cross(c - a) + (c - a).cross(d - a);
-      n += normal.dot(surface_normal_at(0.25 * (a + b + c + d))) < 0;
-    }
+    for (int q : node_quads_[size_t(v)]) n += facing_of(q) < 0;
     return n;
   }
 
@@ -375,6 +398,8 @@ class FoldRepairer {
   std::vector<std::vector<int>> node_hexes_, node_quads_;
   std::vector<unsigned> hex_stamp_;
   unsigned stamp_ = 0;
+  Clock::time_point deadline_;
+  bool time_limit_reached_ = false;
   double floor_ = 0, cell_ = 1;
   bool off_surface_ = false;
   std::unordered_map<uint64_t, std::vector<int>> grid_;
@@ -447,7 +472,8 @@ RepairBoundaryFoldsReport repair_boundary_folds(HexMesh& mesh, const TriangleBvh
   FoldRepairer repairer(mesh, surface, quads, owners, options);
   for (bool off_surface : {false, true}) {
     if (off_surface && !(options.max_off_surface > 0)) break;
-    for (int rings = options.rings; rings <= options.max_rings && folds.faces_inside > 0; ++rings) {
+    for (int rings = options.rings; rings <= options.max_rings && folds.faces_inside > 0 && !repairer.out_of_time();
+         ++rings) {
       const auto groups = fold_groups(mesh, folds, owners);
       report.regions = std::max(report.regions, groups.size());
       for (const auto& seeds : groups) repairer.repair_region(seeds, rings, off_surface);
@@ -465,6 +491,7 @@ RepairBoundaryFoldsReport repair_boundary_folds(HexMesh& mesh, const TriangleBvh
   report.first_face_after = folds.first_face;
   report.first_point_after = folds.first_point;
   report.moved_nodes = repairer.moved_nodes();
+  report.time_limit_reached = repairer.out_of_time();
   if (report.undone) report.region_min_scaled_jacobian_after = report.region_min_scaled_jacobian_before;
   return report;
 }

@@ -40,6 +40,8 @@ struct RepairBoundaryFoldsOptions {
   //! of their mean edge length; 0: never.
   double max_off_surface = 0.5;
   BoundaryOverlapOptions probe;  //!< the probe that decides which quads are folded
+  //! Wall-clock bound: past it no further node is tried (what was done so far stands).
+  double time_limit_seconds = 120;
 };
 
 struct RepairBoundaryFoldsReport {
@@ -51,6 +53,7 @@ struct RepairBoundaryFoldsReport {
   //! The lowest scaled Jacobian of the hexes around the moved nodes, before and after.
   double region_min_scaled_jacobian_before = 1, region_min_scaled_jacobian_after = 1;
   bool undone = false;                  //!< the repair did not lower the count and was put back
+  bool time_limit_reached = false;
 };
 
 //! Finds the boundary quads of `mesh` (outward rings `quads`, hex `owners[i]` of quad i, as
