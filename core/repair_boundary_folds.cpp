@@ -32,17 +32,44 @@ struct QuadFold {
   double value = 0;
 };
 
+//! The items (hexes, quads) at each node, in one array (a vector per node costs more than
+//! the whole repair on a mesh of a million nodes).
+struct Incidence {
+  struct Range {
+    const int *first = nullptr, *last = nullptr;
+    const int* begin() const { return first; }
+    const int* end() const { return last; }
+    size_t size() const { return size_t(last - first); }
+    bool empty() const { return first == last; }
+    int operator[](size_t i) const { return first[i]; }
+  };
+  std::vector<size_t> start;
+  std::vector<int> items;
+
+  template <size_t N>
+  Incidence(size_t nodes, const std::vector<std::array<int, N>>& cells) : start(nodes + 1, 0) {
+    for (const auto& c : cells)
+      for (int v : c) ++start[size_t(v) + 1];
+    for (size_t v = 0; v < nodes; ++v) start[v + 1] += start[v];
+    items.resize(start.back());
+    std::vector<size_t> next(start.begin(), start.end() - 1);
+    for (size_t i = 0; i < cells.size(); ++i)
+      for (int v : cells[i]) items[next[size_t(v)]++] = int(i);
+  }
+  Range operator[](size_t v) const { return {items.data() + start[v], items.data() + start[v + 1]}; }
+};
+
 class FoldRepairer {
  public:
   FoldRepairer(HexMesh& mesh, const TriangleBvh& surface, const std::vector<std::array<int, 4>>& quads,
                const std::vector<int>& owners, const RepairBoundaryFoldsOptions& options)
-      : mesh_(mesh), surface_(surface), quads_(quads), owners_(owners), options_(options) {
-    node_hexes_.resize(mesh.nodes.size());
-    for (size_t h = 0; h < mesh.hexes.size(); ++h)
-      for (int v : mesh.hexes[h]) node_hexes_[size_t(v)].push_back(int(h));
-    node_quads_.resize(mesh.nodes.size());
-    for (size_t q = 0; q < quads.size(); ++q)
-      for (int v : quads[q]) node_quads_[size_t(v)].push_back(int(q));
+      : mesh_(mesh),
+        surface_(surface),
+        quads_(quads),
+        owners_(owners),
+        options_(options),
+        node_hexes_(mesh.nodes.size(), mesh.hexes),
+        node_quads_(mesh.nodes.size(), quads) {
     hex_stamp_.assign(mesh.hexes.size(), 0);
     deadline_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                    std::chrono::duration<double>(options.time_limit_seconds));
@@ -178,7 +205,7 @@ class FoldRepairer {
 
   // The fold of quad q as the nodes are now; `moving` are hexes whose nodes moved since they
   // were listed in the grid (tested whatever cell they are listed in).
-  QuadFold fold_of(int q, const std::vector<int>& moving) {
+  QuadFold fold_of(int q, Incidence::Range moving) {
     QuadFold f;
     f.has_probe = boundary_probe_point(mesh_, quads_[size_t(q)], owner_of(size_t(q)), options_.probe, f.probe);
     if (!f.has_probe) return f;
@@ -244,7 +271,7 @@ class FoldRepairer {
   // floor and turning no more of its quads inward; if so the move stays.
   bool try_move(int v, const Vec3& x, int inward_before) {
     const Vec3 old = mesh_.nodes[size_t(v)];
-    const auto& hexes = node_hexes_[size_t(v)];
+    const Incidence::Range hexes = node_hexes_[size_t(v)];
     Box reach;
     for (int h : hexes) reach.extend(hex_box(h));
     // Each hex keeps min(its value, the floor): no hex falls below the floor, and one already
@@ -302,7 +329,7 @@ class FoldRepairer {
   // A compass search on v (in the tangent plane of the input surface for a boundary node),
   // the mean of its edge neighbours tried first.
   bool improve_node(int v) {
-    const auto& hexes = node_hexes_[size_t(v)];
+    const Incidence::Range hexes = node_hexes_[size_t(v)];
     if (hexes.empty()) return false;
     const Vec3 x0 = mesh_.nodes[size_t(v)];
     Vec3 sum = Vec3::Zero();
@@ -395,7 +422,7 @@ class FoldRepairer {
   const std::vector<std::array<int, 4>>& quads_;
   const std::vector<int>& owners_;
   RepairBoundaryFoldsOptions options_;
-  std::vector<std::vector<int>> node_hexes_, node_quads_;
+  Incidence node_hexes_, node_quads_;
   std::vector<unsigned> hex_stamp_;
   unsigned stamp_ = 0;
   Clock::time_point deadline_;
