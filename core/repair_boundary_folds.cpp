@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <unordered_map>
 
 namespace dthex {
@@ -29,6 +30,7 @@ struct QuadFold {
   Vec3 probe = Vec3::Zero();
   bool has_probe = false;
   bool inside = false;  //!< the probe lies in a hex: what find_boundary_faces_inside counts
+  int hex = -1;         //!< then the hex where it lies deepest
   double value = 0;
 };
 
@@ -140,7 +142,7 @@ class FoldRepairer {
     tracked_index_.clear();
     for (size_t i = 0; i < tracked_.size(); ++i) tracked_index_[tracked_[i]] = int(i);
 
-    for (int sweep = 0; sweep < options_.sweeps && folded_count() > 0; ++sweep) {
+    for (int sweep = 0; sweep < options_.sweeps && !unfolded(); ++sweep) {
       bool moved = false;
       for (int v : node_order) {
         if (out_of_time()) return;
@@ -149,10 +151,30 @@ class FoldRepairer {
           moved = true;
           original_.emplace(v, start);  // keeps the first position only
         }
-        if (folded_count() == 0) break;
+        if (unfolded()) break;
       }
       if (!moved) break;
     }
+    for (size_t i = 0; i < tracked_.size(); ++i) {
+      if (fold_[i].inside) folds_[tracked_[i]] = fold_[i].hex;
+      else folds_.erase(tracked_[i]);
+    }
+  }
+
+  //! The folds as the regions left them (quads far from every region as first found): what
+  //! the next, wider regions start from, without a probe pass over the whole mesh.
+  void set_folds(const BoundaryOverlapReport& found) {
+    folds_.clear();
+    for (size_t i = 0; i < found.faces.size(); ++i) folds_[found.faces[i]] = found.hexes[i];
+  }
+  BoundaryOverlapReport folds() const {
+    BoundaryOverlapReport r;
+    for (const auto& [face, hex] : folds_) {
+      r.faces.push_back(face);
+      r.hexes.push_back(hex);
+    }
+    r.faces_inside = r.faces.size();
+    return r;
   }
 
   //! Puts every moved node back.
@@ -218,7 +240,10 @@ class FoldRepairer {
       Vec3 rst;
       if (!point_in_hex(hex_corners(mesh_, size_t(h)), f.probe, options_.probe.parametric_tolerance, &rst)) return;
       const Vec3 inner = rst.cwiseMin(Vec3::Ones() - rst);
-      deepest = std::max(deepest, std::max(0.0, inner.minCoeff()));
+      if (std::max(0.0, inner.minCoeff()) > deepest) {
+        deepest = std::max(0.0, inner.minCoeff());
+        f.hex = h;
+      }
     };
     for (int h : moving) test(h);
     const auto it = grid_.find(cell_key(cell_of(f.probe)));
@@ -243,10 +268,9 @@ class FoldRepairer {
     return length > 0 ? normal.dot(surface_normal_at(0.25 * (a + b + c + d))) / length : 0.0;
   }
 
-  size_t folded_count() const {
-    size_t n = 0;
-    for (const QuadFold& f : fold_) n += f.inside;
-    return n;
+  //! No tracked quad's probe in a hex, none turned over.
+  bool unfolded() const {
+    return std::all_of(fold_.begin(), fold_.end(), [](const QuadFold& f) { return f.value == 0; });
   }
 
   // The normal of the input surface nearest to x (zero when there is none).
@@ -437,6 +461,7 @@ class FoldRepairer {
   std::vector<double> floors_;
   std::vector<QuadFold> trial_;
   std::unordered_map<int, Vec3> original_;     //!< first position of every node moved
+  std::map<int, int> folds_;                   //!< folded quad -> the hex that holds its probe
 };
 
 // Seeds of the connected groups of folds: the hexes of the folded quads and the hexes that
@@ -497,6 +522,7 @@ RepairBoundaryFoldsReport repair_boundary_folds(HexMesh& mesh, const TriangleBvh
   if (folds.faces_inside == 0) return report;
 
   FoldRepairer repairer(mesh, surface, quads, owners, options);
+  repairer.set_folds(folds);
   for (bool off_surface : {false, true}) {
     if (off_surface && !(options.max_off_surface > 0)) break;
     for (int rings = options.rings; rings <= options.max_rings && folds.faces_inside > 0 && !repairer.out_of_time();
@@ -504,9 +530,10 @@ RepairBoundaryFoldsReport repair_boundary_folds(HexMesh& mesh, const TriangleBvh
       const auto groups = fold_groups(mesh, folds, owners);
       report.regions = std::max(report.regions, groups.size());
       for (const auto& seeds : groups) repairer.repair_region(seeds, rings, off_surface);
-      folds = find_boundary_faces_inside(mesh, quads, owners, options.probe);
+      folds = repairer.folds();
     }
   }
+  folds = find_boundary_faces_inside(mesh, quads, owners, options.probe);
   report.region_min_scaled_jacobian_before = repairer.min_scaled_jacobian_around_moved(true);
   report.region_min_scaled_jacobian_after = repairer.min_scaled_jacobian_around_moved(false);
   if (folds.faces_inside >= report.faces_inside_before) {
