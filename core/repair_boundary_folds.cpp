@@ -102,8 +102,8 @@ class FoldRepairer {
     std::stable_sort(node_order.begin(), node_order.end(),
                      [&](int a, int b) { return node_ring[a] < node_ring[b]; });
 
-    // Where probes can matter: a box around the region, a margin of two of
-    // its longest edges wide.
+    // Where probes can matter: a box around the region, a margin of two of its longest
+    // edges wide.
     Box box;
     double longest = 0;
     for (int v : node_order) {
@@ -116,7 +116,6 @@ class FoldRepairer {
     }
     box.min() -= Vec3::Constant(2 * longest);
     box.max() += Vec3::Constant(2 * longest);
-    floor_ = options_.min_scaled_jacobian;
 
     // The hexes that can hold a probe there, in a uniform grid of about one hex per cell.
     cell_ = std::max(longest, 1e-300);
@@ -142,10 +141,10 @@ class FoldRepairer {
     tracked_index_.clear();
     for (size_t i = 0; i < tracked_.size(); ++i) tracked_index_[tracked_[i]] = int(i);
 
-    for (int sweep = 0; sweep < options_.sweeps && !unfolded(); ++sweep) {
+    for (int sweep = 0; sweep < options_.sweeps && !unfolded() && !out_of_time(); ++sweep) {
       bool moved = false;
       for (int v : node_order) {
-        if (out_of_time()) return;
+        if (out_of_time()) break;
         const Vec3 start = mesh_.nodes[size_t(v)];
         if (improve_node(v)) {
           moved = true;
@@ -301,7 +300,8 @@ class FoldRepairer {
     // Each hex keeps min(its value, the floor): no hex falls below the floor, and one already
     // below it (around a fold the smoother could not raise) gets no worse.
     floors_.clear();
-    for (int h : hexes) floors_.push_back(std::min(floor_, hex_scaled_jacobian(hex_corners(mesh_, size_t(h)))));
+    for (int h : hexes)
+      floors_.push_back(std::min(options_.min_scaled_jacobian, hex_scaled_jacobian(hex_corners(mesh_, size_t(h)))));
     mesh_.nodes[size_t(v)] = x;
     bool ok = true;
     for (size_t k = 0; k < hexes.size(); ++k)
@@ -451,7 +451,7 @@ class FoldRepairer {
   unsigned stamp_ = 0;
   Clock::time_point deadline_;
   bool time_limit_reached_ = false;
-  double floor_ = 0, cell_ = 1;
+  double cell_ = 1;
   bool off_surface_ = false;
   std::unordered_map<uint64_t, std::vector<int>> grid_;
   std::vector<int> tracked_;                   //!< quad ids whose fold is followed
