@@ -105,20 +105,24 @@ class FoldRepairer {
     // Where probes can matter: a box around the region, a margin of two of its longest
     // edges wide.
     Box box;
-    double longest = 0;
+    double longest = 0, sum = 0;
+    size_t edges = 0;
     for (int v : node_order) {
       box.extend(mesh_.nodes[size_t(v)]);
-      for (int h : node_hexes_[size_t(v)]) {
-        for (const auto& e : kHexEdges)
-          longest = std::max(longest, (mesh_.nodes[size_t(mesh_.hexes[size_t(h)][size_t(e[0])])] -
-                                       mesh_.nodes[size_t(mesh_.hexes[size_t(h)][size_t(e[1])])]).norm());
-      }
+      for (int h : node_hexes_[size_t(v)])
+        for (const auto& e : kHexEdges) {
+          const double length = (mesh_.nodes[size_t(mesh_.hexes[size_t(h)][size_t(e[0])])] -
+                                 mesh_.nodes[size_t(mesh_.hexes[size_t(h)][size_t(e[1])])]).norm();
+          longest = std::max(longest, length);
+          sum += length;
+          ++edges;
+        }
     }
     box.min() -= Vec3::Constant(2 * longest);
     box.max() += Vec3::Constant(2 * longest);
 
     // The hexes that can hold a probe there, in a uniform grid of about one hex per cell.
-    cell_ = std::max(longest, 1e-300);
+    cell_ = std::max(sum / double(std::max<size_t>(edges, 1)), 1e-300);
     grid_.clear();
     for (size_t h = 0; h < mesh_.hexes.size(); ++h)
       if (box.intersects(hex_box(int(h)))) add_to_grid(int(h));
@@ -139,7 +143,11 @@ class FoldRepairer {
         fold_.push_back(fold_of(int(q), {}));
       }
     tracked_index_.clear();
-    for (size_t i = 0; i < tracked_.size(); ++i) tracked_index_[tracked_[i]] = int(i);
+    probe_grid_.clear();
+    for (size_t i = 0; i < tracked_.size(); ++i) {
+      tracked_index_[tracked_[i]] = int(i);
+      if (fold_[i].has_probe) probe_grid_[cell_key(cell_of(fold_[i].probe))].push_back(int(i));
+    }
 
     for (int sweep = 0; sweep < options_.sweeps && !unfolded() && !out_of_time(); ++sweep) {
       bool moved = false;
@@ -214,14 +222,32 @@ class FoldRepairer {
   static uint64_t cell_key(const std::array<int64_t, 3>& c) {
     return uint64_t(c[0]) * 73856093ULL ^ uint64_t(c[1]) * 19349663ULL ^ uint64_t(c[2]) * 83492791ULL;
   }
-  // Lists a hex in every cell its box meets (again after a move: stale entries only cost a
-  // box test, and the stamp keeps a hex from being tested twice for one probe).
+  // Lists a hex in every cell its box meets (again after a move, where it is not yet: stale
+  // entries only cost a box test, and the stamp keeps a hex from being tested twice for one
+  // probe).
   void add_to_grid(int h) {
     const Box b = hex_box(h);
     const auto lo = cell_of(b.min()), hi = cell_of(b.max());
     for (int64_t x = lo[0]; x <= hi[0]; ++x)
       for (int64_t y = lo[1]; y <= hi[1]; ++y)
-        for (int64_t z = lo[2]; z <= hi[2]; ++z) grid_[cell_key({x, y, z})].push_back(h);
+        for (int64_t z = lo[2]; z <= hi[2]; ++z) {
+          std::vector<int>& listed = grid_[cell_key({x, y, z})];
+          if (std::find(listed.begin(), listed.end(), h) == listed.end()) listed.push_back(h);
+        }
+  }
+
+  // Calls visit(i) for the tracked quads whose probe lies in `box` (some more than once).
+  template <class Visit>
+  void for_each_tracked_in(const Box& box, Visit visit) const {
+    const auto lo = cell_of(box.min()), hi = cell_of(box.max());
+    for (int64_t x = lo[0]; x <= hi[0]; ++x)
+      for (int64_t y = lo[1]; y <= hi[1]; ++y)
+        for (int64_t z = lo[2]; z <= hi[2]; ++z) {
+          const auto it = probe_grid_.find(cell_key({x, y, z}));
+          if (it == probe_grid_.end()) continue;
+          for (int i : it->second)
+            if (fold_[size_t(i)].has_probe && box.contains(fold_[size_t(i)].probe)) visit(i);
+        }
   }
 
   // The fold of quad q as the nodes are now; `moving` are hexes whose nodes moved since they
@@ -314,8 +340,7 @@ class FoldRepairer {
       for (int h : hexes) reach.extend(hex_box(h));
       affected_.clear();
       for (int q : node_quads_[size_t(v)]) affected_.push_back(tracked_index_.at(q));
-      for (size_t i = 0; i < tracked_.size(); ++i)
-        if (fold_[i].has_probe && reach.contains(fold_[i].probe)) affected_.push_back(int(i));
+      for_each_tracked_in(reach, [&](int i) { affected_.push_back(i); });
       std::sort(affected_.begin(), affected_.end());
       affected_.erase(std::unique(affected_.begin(), affected_.end()), affected_.end());
       double before = 0, after = 0;
@@ -331,7 +356,13 @@ class FoldRepairer {
       mesh_.nodes[size_t(v)] = old;
       return false;
     }
-    for (size_t k = 0; k < affected_.size(); ++k) fold_[size_t(affected_[k])] = trial_[k];
+    for (size_t k = 0; k < affected_.size(); ++k) {
+      QuadFold& f = fold_[size_t(affected_[k])];
+      // A probe that moved is listed in its new cell too (stale entries are filtered out).
+      if (trial_[k].has_probe && (!f.has_probe || cell_of(trial_[k].probe) != cell_of(f.probe)))
+        probe_grid_[cell_key(cell_of(trial_[k].probe))].push_back(affected_[k]);
+      f = trial_[k];
+    }
     for (int h : hexes) add_to_grid(h);
     return true;
   }
@@ -345,9 +376,9 @@ class FoldRepairer {
     for (int h : node_hexes_[size_t(v)]) b.extend(hex_box(h));
     b.min() -= Vec3::Constant(reach);
     b.max() += Vec3::Constant(reach);
-    for (size_t i = 0; i < tracked_.size(); ++i)
-      if (fold_[i].value > 0 && b.contains(fold_[i].probe)) return true;
-    return false;
+    bool found = false;
+    for_each_tracked_in(b, [&](int i) { found = found || fold_[size_t(i)].value > 0; });
+    return found;
   }
 
   // A compass search on v (in the tangent plane of the input surface for a boundary node),
@@ -453,7 +484,8 @@ class FoldRepairer {
   bool time_limit_reached_ = false;
   double cell_ = 1;
   bool off_surface_ = false;
-  std::unordered_map<uint64_t, std::vector<int>> grid_;
+  std::unordered_map<uint64_t, std::vector<int>> grid_;        //!< hexes by cell
+  std::unordered_map<uint64_t, std::vector<int>> probe_grid_;  //!< tracked quads by their probe's cell
   std::vector<int> tracked_;                   //!< quad ids whose fold is followed
   std::unordered_map<int, int> tracked_index_; //!< quad id -> position in tracked_
   std::vector<QuadFold> fold_;                 //!< per tracked quad
