@@ -10,8 +10,8 @@
 // of the 0.04-thick upper lip, which the boundary then covers twice. Every hex stays valid,
 // so neither the untangler nor the smoother, which see one hex at a time, can notice (on
 // Spot: 47 folded quads after projection, 18 after untangling, 17 after smoothing). Here the
-// nodes around each fold move (boundary nodes sliding on the input surface, interior nodes
-// freely) to push each folded quad's probe point out of the hex that holds it and to turn
+// nodes around each fold move (boundary nodes sliding on the input surface, and where that
+// is not enough leaving it by a bounded distance; interior nodes freely) to push each folded quad's probe point out of the hex that holds it and to turn
 // turned-over quads back, never letting a hex fall below a scaled-Jacobian floor. Meshes
 // without folds are not touched.
 #pragma once
