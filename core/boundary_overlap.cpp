@@ -74,6 +74,19 @@ bool point_in_hex(const std::array<Vec3, 8>& corner, const Vec3& p, double param
   return (rst.array() >= -parametric_tolerance).all() && (rst.array() <= 1 + parametric_tolerance).all();
 }
 
+bool boundary_probe_point(const HexMesh& mesh, const std::array<int, 4>& quad, int owner,
+                          const BoundaryOverlapOptions& options, Vec3& probe) {
+  const Vec3 a = mesh.nodes[size_t(quad[0])], b = mesh.nodes[size_t(quad[1])], c = mesh.nodes[size_t(quad[2])],
+             d = mesh.nodes[size_t(quad[3])];
+  const Vec3 area_normal = 0.5 * ((b - a).cross(c - a) + (c - a).cross(d - a));
+  const double area = area_normal.norm();
+  if (!(area > 0) || !std::isfinite(area)) return false;  // a degenerate face: counted elsewhere
+  Vec3 normal = area_normal / area;
+  if (owner >= 0 && centre_jacobian(corners_of(mesh, size_t(owner))) < 0) normal = -normal;
+  probe = 0.25 * (a + b + c + d) + options.probe_offset * std::sqrt(area) * normal;
+  return probe.allFinite();
+}
+
 BoundaryOverlapReport find_boundary_faces_inside(const HexMesh& mesh, const std::vector<std::array<int, 4>>& quads,
                                                  const std::vector<int>& owner,
                                                  const BoundaryOverlapOptions& options) {
@@ -83,18 +96,8 @@ BoundaryOverlapReport find_boundary_faces_inside(const HexMesh& mesh, const std:
   // The probe points, one per quad.
   std::vector<Vec3> probe(quads.size());
   std::vector<char> has_probe(quads.size(), 0);
-  for (size_t q = 0; q < quads.size(); ++q) {
-    const auto& quad = quads[q];
-    const Vec3 a = mesh.nodes[size_t(quad[0])], b = mesh.nodes[size_t(quad[1])], c = mesh.nodes[size_t(quad[2])],
-               d = mesh.nodes[size_t(quad[3])];
-    const Vec3 area_normal = 0.5 * ((b - a).cross(c - a) + (c - a).cross(d - a));
-    const double area = area_normal.norm();
-    if (!(area > 0) || !std::isfinite(area)) continue;  // a degenerate face: counted elsewhere
-    Vec3 normal = area_normal / area;
-    if (!owner.empty() && centre_jacobian(corners_of(mesh, size_t(owner[q]))) < 0) normal = -normal;
-    probe[q] = 0.25 * (a + b + c + d) + options.probe_offset * std::sqrt(area) * normal;
-    has_probe[q] = probe[q].allFinite();
-  }
+  for (size_t q = 0; q < quads.size(); ++q)
+    has_probe[q] = boundary_probe_point(mesh, quads[q], owner.empty() ? -1 : owner[q], options, probe[q]);
 
   // A dense uniform grid over the probe points' bounding box listing the hexes whose box
   // meets each cell (counting sort into one array). Its cell is about two hex sizes, grown
@@ -174,6 +177,8 @@ BoundaryOverlapReport find_boundary_faces_inside(const HexMesh& mesh, const std:
   }
   for (size_t q = 0; q < quads.size(); ++q) {
     if (hit_hex[q] < 0) continue;
+    report.faces.push_back(int(q));
+    report.hexes.push_back(hit_hex[q]);
     if (report.faces_inside++ == 0) {
       report.first_face = int(q);
       report.first_hex = hit_hex[q];

@@ -29,6 +29,8 @@ struct BoundaryOverlapReport {
   int first_face = -1;      //!< the lowest such quad index, -1 when none
   int first_hex = -1;       //!< a hex that holds its probe point
   Vec3 first_point = Vec3::Zero();  //!< the probe point of first_face
+  //! Every such quad (ascending) and, at the same position, the hex that holds its probe.
+  std::vector<int> faces, hexes;
 };
 
 //! For each boundary quad (outward rings, as boundary_quads() returns them), pushes its centre
@@ -40,6 +42,12 @@ struct BoundaryOverlapReport {
 BoundaryOverlapReport find_boundary_faces_inside(const HexMesh& mesh, const std::vector<std::array<int, 4>>& quads,
                                                  const std::vector<int>& owner = {},
                                                  const BoundaryOverlapOptions& options = {});
+
+//! The probe point of boundary quad `quad` of hex `owner` (-1: unknown, the ring taken as
+//! outward): its centre pushed options.probe_offset * sqrt(area) along its outward normal.
+//! False for a degenerate quad, which has no probe.
+bool boundary_probe_point(const HexMesh& mesh, const std::array<int, 4>& quad, int owner,
+                          const BoundaryOverlapOptions& options, Vec3& probe);
 
 //! Whether `p` lies inside the trilinear hex with corners `corner` (VTK order), with the
 //! given parametric tolerance; the parametric coordinates go to `rst` when given.

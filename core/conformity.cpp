@@ -113,11 +113,12 @@ std::vector<std::array<int, 4>> boundary_quads_of(const HexMesh& mesh, const std
 
 }  // namespace
 
-std::vector<std::array<int, 4>> boundary_quads(const HexMesh& mesh) {
-  return boundary_quads_of(mesh, sorted_face_uses(mesh));
+std::vector<std::array<int, 4>> boundary_quads(const HexMesh& mesh, std::vector<int>* owners) {
+  return boundary_quads_of(mesh, sorted_face_uses(mesh), owners);
 }
 
-ConformityReport check_conformity(const HexMesh& mesh, std::vector<std::array<int, 4>>* boundary) {
+ConformityReport check_conformity(const HexMesh& mesh, std::vector<std::array<int, 4>>* boundary,
+                                  std::vector<int>* boundary_owners) {
   ConformityReport r;
   r.hexes = mesh.hexes.size();
   r.nodes = mesh.nodes.size();
@@ -180,6 +181,7 @@ ConformityReport check_conformity(const HexMesh& mesh, std::vector<std::array<in
   std::vector<int> owners;
   const auto quads = boundary_quads_of(mesh, uses, &owners);  // the uses sorted above, not a second sort
   if (boundary) *boundary = quads;
+  if (boundary_owners) *boundary_owners = owners;
   struct EdgeUse {
     uint64_t key;
     int quad, corner;  // the directed edge runs from corner to corner + 1 of quad

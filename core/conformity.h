@@ -43,11 +43,14 @@ struct ConformityReport {
 //! hanging nodes: the refined and unrefined sides each get their own boundary face.
 //! O(n log n); meant for tests and verification, not for inner loops. The boundary quads
 //! it finds on the way are stored in `boundary` when given (as boundary_quads() returns
-//! them), which saves a caller that needs both a second pass over every face.
-ConformityReport check_conformity(const HexMesh& mesh, std::vector<std::array<int, 4>>* boundary = nullptr);
+//! them), which saves a caller that needs both a second pass over every face; the hex of
+//! each goes to `boundary_owners` when given.
+ConformityReport check_conformity(const HexMesh& mesh, std::vector<std::array<int, 4>>* boundary = nullptr,
+                                  std::vector<int>* boundary_owners = nullptr);
 
 //! The faces used by exactly one hex, as node rings oriented outward (counter-clockwise
-//! seen from outside) for positively oriented hexes, in hex order.
-std::vector<std::array<int, 4>> boundary_quads(const HexMesh& mesh);
+//! seen from outside) for positively oriented hexes, in hex order; the hex of each goes to
+//! `owners` when given.
+std::vector<std::array<int, 4>> boundary_quads(const HexMesh& mesh, std::vector<int>* owners = nullptr);
 
 }  // namespace dthex

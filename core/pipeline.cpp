@@ -15,6 +15,7 @@
 #include "core/refine_flat_needles.h"
 #include "core/remove_flat_valence3_vertices.h"
 #include "core/remove_boundary_edges.h"
+#include "core/repair_boundary_folds.h"
 #include "core/split_surface_tets.h"
 #include "core/surface_distance.h"
 #include "core/tetrahedralize.h"
@@ -344,10 +345,37 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
     });
   }
 
+  // The conformity check, made once: by the fold repair, which needs its boundary quads and
+  // probes, or else by the measurement.
+  ConformityReport conformity;
+  std::vector<std::array<int, 4>> quads;
+  bool conformity_known = false;
+  if (!options.thex_only && options.project) {
+    timed_stage(result, progress, "repair folds", [&] {
+      std::vector<int> owners;
+      conformity = check_conformity(result.hexes, &quads, &owners);
+      conformity_known = true;
+      if (conformity.boundary_faces_inside == 0) return std::string("no boundary faces inside the mesh");
+      RepairBoundaryFoldsOptions repair_options;
+      repair_options.time_limit_seconds = options.time_limit_seconds;
+      const RepairBoundaryFoldsReport report = repair_boundary_folds(result.hexes, input_bvh, quads, owners, repair_options);
+      if (report.moved_nodes > 0) conformity_known = false;
+      std::ostringstream out;
+      out << report.faces_inside_before << " boundary faces inside -> " << report.faces_inside_after;
+      if (report.undone)
+        out << " (no move lowered the count: undone)";
+      else
+        out << ", " << count_text("nodes moved", report.moved_nodes) << ", min scaled Jacobian around them "
+            << report.region_min_scaled_jacobian_before << " -> " << report.region_min_scaled_jacobian_after;
+      if (report.time_limit_reached) out << " (time limit reached)";
+      return out.str();
+    });
+  }
+
   timed_stage(result, progress, "measure", [&] {
     result.quality = measure_hex_quality(result.hexes);
-    std::vector<std::array<int, 4>> quads;
-    const ConformityReport conformity = check_conformity(result.hexes, &quads);
+    // The fold repair's check stands unless it moved nodes (then everything is checked again).
+    if (!conformity_known) conformity = check_conformity(result.hexes, &quads);
     result.conforming = conformity.conforming();
     result.boundary_faces_inside = conformity.boundary_faces_inside;
     result.first_inside_point = conformity.first_inside_point;
