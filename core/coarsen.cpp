@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 
 #include <Eigen/Geometry>
 
@@ -290,7 +291,7 @@ std::vector<std::array<int, 2>> self_intersections(const TriSurface& surface) {
   return pairs;
 }
 
-CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options) {
+CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options, const TriangleBvh* given_bvh) {
   const auto start = std::chrono::steady_clock::now();
   CoarsenResult result;
   result.input_vertices = input.points.size();
@@ -302,7 +303,9 @@ CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options) {
   const CurvatureSizingOptions sizing = sizing_options(options);
   std::tie(result.h_min, result.h_max) = sizing_bounds(input_mesh, sizing);
   std::vector<double> h = curvature_sizing(input_mesh, sizing);
-  const TriangleBvh input_bvh(input);
+  std::optional<TriangleBvh> own_bvh;
+  if (!given_bvh) own_bvh.emplace(input);
+  const TriangleBvh& input_bvh = given_bvh ? *given_bvh : *own_bvh;
   if (options.max_size_per_thickness > 0)
     result.thin_wall_vertices = cap_by_wall_thickness(input, input_mesh, input_bvh, options.max_size_per_thickness,
                                                       options.gradation, result.h_min, true, h);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/features.h"
+#include "core/triangle_bvh.h"
 #include "core/types.h"
 
 #include <cmath>
@@ -65,7 +66,10 @@ struct CoarsenResult {
 
 //! Coarsens a verified closed surface. Throws MeshingError if the result still
 //! self-intersects after max_repair_rounds (it never returns an intersecting surface).
-CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options = {});
+//! `input_bvh`, when given, is a tree over `input` the caller already has (building one
+//! for a million triangles takes half a second).
+CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options = {},
+                      const TriangleBvh* input_bvh = nullptr);
 
 struct GlobalSmoothingOptions {
   size_t max_iterations = 100;

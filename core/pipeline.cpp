@@ -207,7 +207,7 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
     timed_stage(result, progress, "coarsen", [&] {
       CoarsenOptions coarsen_options = coarsen_options_for(options, result.eps);
       coarsen_options.progress = [&](double f) { progress.update(f); };
-      CoarsenResult coarse = coarsen(result.input, coarsen_options);
+      CoarsenResult coarse = coarsen(result.input, coarsen_options, &input_bvh);
       result.coarse = std::move(coarse.surface);
       result.thin_wall_vertices = coarse.thin_wall_vertices;
       std::string detail = count_text("triangles", result.coarse.triangles.size());
