@@ -77,9 +77,6 @@ inline double frame_energy(const Eigen::Matrix3d& jac, double eps, double theta,
   return energy;
 }
 
-// VTK hex faces, outward for a positive hex.
-constexpr int kHexFaces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
-
 //! Limited-memory BFGS with Armijo backtracking. `f(z, grad)` returns the energy, or +inf
 //! for a point that must not be entered. Returns the number of iterations done.
 template <class Energy>
