@@ -89,4 +89,29 @@ Features mark_features(SurfaceMesh& mesh, double angle_deg) {
   return features;
 }
 
+std::vector<char> nodes_on_feature_edges(const HexMesh& mesh, const TriSurface& coarse, double angle_deg) {
+  std::vector<char> on_feature(mesh.nodes.size(), 0);
+  if (mesh.boundary_facet.size() != mesh.nodes.size()) return on_feature;
+  const std::vector<std::array<int, 2>> edges = feature_edges(coarse, angle_deg);  // sorted
+  auto is_feature = [&](int a, int b) {
+    return std::binary_search(edges.begin(), edges.end(), std::array<int, 2>{std::min(a, b), std::max(a, b)});
+  };
+  for (size_t v = 0; v < mesh.nodes.size(); ++v) {
+    const int facet = mesh.boundary_facet[v];
+    if (facet < 0 || size_t(facet) >= coarse.triangles.size()) continue;
+    const auto& t = coarse.triangles[size_t(facet)];
+    for (int k = 0; k < 3 && !on_feature[v]; ++k) {
+      const int a = t[size_t(k)], b = t[size_t((k + 1) % 3)];
+      if (!is_feature(a, b)) continue;
+      // Dicing places the nodes of a coarse edge on it up to rounding.
+      const Vec3 pa = coarse.points[size_t(a)], d = coarse.points[size_t(b)] - pa;
+      const double length_sq = d.squaredNorm();
+      if (!(length_sq > 0)) continue;
+      const double s = std::clamp((mesh.nodes[v] - pa).dot(d) / length_sq, 0.0, 1.0);
+      on_feature[v] = (pa + s * d - mesh.nodes[v]).squaredNorm() <= 1e-16 * length_sq;
+    }
+  }
+  return on_feature;
+}
+
 }  // namespace dthex

@@ -32,6 +32,13 @@ Features detect_features(const TriSurface& surface, double angle_deg = kDefaultF
 //! Just the feature edges of detect_features (for projection onto the fine surface).
 std::vector<std::array<int, 2>> feature_edges(const TriSurface& surface, double angle_deg = kDefaultFeatureAngleDeg);
 
+//! Per node of a hex mesh whose boundary nodes still lie on the coarse surface they were
+//! made from (before projection; boundary_facet names each one's coarse triangle): whether
+//! the node lies on a feature edge of `coarse`. Those nodes belong on the input's feature
+//! lines; any other node that projection puts on a crease got there by accident.
+std::vector<char> nodes_on_feature_edges(const HexMesh& mesh, const TriSurface& coarse,
+                                         double angle_deg = kDefaultFeatureAngleDeg);
+
 //! Marks features on an OpenMesh mesh for the Decimater: edge and vertex status feature()
 //! on feature edges and their vertices, and locked() on corners (never removed). Clears
 //! the bits elsewhere. Returns what it marked, indexed like the mesh's vertices.

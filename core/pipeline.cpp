@@ -5,6 +5,7 @@
 #include "core/collapse_interior_vertices.h"
 #include "core/conformity.h"
 #include "core/dice.h"
+#include "core/features.h"
 #include "core/flip_three_tet_edges.h"
 #include "core/flip_worst_tets.h"
 #include "core/local_smooth.h"
@@ -311,6 +312,8 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
   }
 
   if (!options.thex_only && options.project) {
+    // Before projection moves them: the nodes that lie on the coarse surface's feature lines.
+    const std::vector<char> feature_nodes = nodes_on_feature_edges(result.hexes, result.coarse);
     timed_stage(result, progress, "project", [&] {
       const ProjectReport report = project_boundary(result.hexes, result.coarse, result.input, input_bvh);
       std::ostringstream out;
@@ -337,6 +340,7 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
     timed_stage(result, progress, "smooth worst", [&] {
       LocalSmoothOptions smooth_options;
       smooth_options.time_limit_seconds = options.time_limit_seconds;
+      smooth_options.feature_nodes = &feature_nodes;
       const LocalSmoothReport report = smooth_worst_hexes(result.hexes, input_bvh, smooth_options);
       std::ostringstream out;
       out << "min scaled Jacobian " << report.min_scaled_jacobian_before << " -> " << report.min_scaled_jacobian_after
