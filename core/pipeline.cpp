@@ -329,7 +329,6 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
       // still below a useful scaled Jacobian are raised by the local smoother next, which
       // is far cheaper than the untangler's regional repairs and gets further.
       untangle_options.target_scaled_jacobian = 0;
-      if (getenv("DTHEX_EXP_NOSHAPE")) untangle_options.smoothing_iterations = 0;
       const UntangleReport report = untangle_and_smooth(result.hexes, input_bvh, untangle_options);
       result.inverted_before_untangle = report.inverted_before;
       std::ostringstream out;
