@@ -29,6 +29,7 @@
 #include <chrono>
 #include <iomanip>
 #include <cmath>
+#include <functional>
 #include <numeric>
 #include <sstream>
 
@@ -102,26 +103,93 @@ TetgenOptions tetgen_options_for(const PipelineOptions& options) {
   return t;
 }
 
-// Final node count for a given eps: coarsen and tet-mesh, then count what THex and
-// dicing would make (projection and untangling move nodes, they do not add any).
-size_t predicted_nodes(const TriSurface& input, const PipelineOptions& options, double eps) {
-  TriSurface coarse = coarsen(input, coarsen_options_for(options, eps)).surface;
-  if (options.project) remove_flat_valence3_vertices(coarse);
-  refine_flat_needles(coarse);
+//! Runs one named step: the pipeline times and reports it, the node prediction runs it
+//! silently. The step returns its one-line result. Both go through the same sequences
+//! below, so the prediction cannot fall out of step with the pipeline.
+using StageRunner = std::function<void(const std::string& name, const std::function<std::string()>& step)>;
+
+// After coarsening: the fixes the coarse surface needs before TetGen. Returns what they did
+// ("" if nothing).
+std::string prepare_coarse_surface(TriSurface& coarse, const PipelineOptions& options) {
+  std::string detail;
+  // With projection, a flat three-triangle vertex would leave hexes no untangler makes good.
+  const size_t flat = options.project ? remove_flat_valence3_vertices(coarse) : 0;
+  if (flat) detail += ", " + count_text("flat three-triangle vertices removed", flat);
+  // Needles on flat cut faces would become sliver tets: refined in their plane.
+  const RefineFlatNeedlesReport needles = refine_flat_needles(coarse);
+  if (needles.vertices_added)
+    detail += ", " + std::to_string(needles.needles_before) + " needles on flat faces refined (" +
+              count_text("vertices added", needles.vertices_added) + ", " + std::to_string(needles.needles_after) +
+              " left)";
+  return detail;
+}
+
+// The guard in front of TetGen: a self-intersecting coarse surface would crash it.
+SurfaceSummary verify_coarse_surface(TriSurface& coarse, const std::string& name) {
   try {
-    verify_surface(coarse, "coarse surface");
+    return summarize_surface(verify_surface(coarse, name));
   } catch (const InputError& e) {
     throw MeshingError(std::string("coarsening produced an invalid surface: ") + e.what());
   }
+}
+
+// With projection, TetGen's tets are changed so that THex's hexes can all be valid once
+// the boundary is on the smooth input surface.
+void improve_tets_for_projection(TetMesh& tets, const StageRunner& stage) {
+  // Interior edges and faces between boundary vertices would give hexes that cannot all be
+  // valid. First the clusters of such edges that one cone point replaces, then flips, which
+  // add no point, and midpoint splits only where no flip is allowed.
+  stage("flip boundary edges", [&] {
+    const size_t coned = cone_edge_clusters(tets);
+    const RemoveBoundaryEdgesReport removed = remove_boundary_edges(tets);
+    return count_text("clusters coned", coned) + ", then of " + std::to_string(removed.candidates) +
+           " interior edges between boundary vertices " + std::to_string(removed.removed) + " flipped away and " +
+           std::to_string(removed.split) + " split, " + count_text("tets", tets.tets.size());
+  });
+  // Then fewer tets (3-2 flips, then fewer interior points) where that does not lower the
+  // local worst tet shape.
+  stage("flip 3-2", [&] {
+    const FlipThreeTetEdgesReport flips = flip_three_tet_edges(tets);
+    return count_text("three-tet edges flipped", flips.flips) + ", " + count_text("tets", tets.tets.size());
+  });
+  stage("merge inner points", [&] {
+    const CollapseInteriorVerticesReport collapsed = collapse_interior_vertices(tets);
+    return count_text("interior vertices merged into a neighbour", collapsed.collapsed) + ", " +
+           count_text("tets", tets.tets.size());
+  });
+  stage("split surface tets", [&] {
+    const SplitSurfaceTetsReport split = split_surface_tets(tets);
+    return count_text("tets split", split.split_tets) + ", " + count_text("interior edges split", split.split_edges) +
+           ", " + count_text("interior faces split", split.split_faces);
+  });
+  // Then the worst tets left (a boundary face with a point close above it, on thin walls):
+  // first other connectivity around them, then the interior points moved.
+  stage("flip worst tets", [&] {
+    const FlipWorstTetsReport flips = flip_worst_tets(tets);
+    std::ostringstream out;
+    out << count_text("edges removed", flips.edge_removals) << ", " << count_text("faces flipped 2-3", flips.face_flips)
+        << ", worst tet shape " << flips.worst_before << " -> " << flips.worst_after;
+    return out.str();
+  });
+  // The splits' points (and TetGen's) where the worst tet around each is best: THex hands a
+  // tet's shape on to its hexes, and a point just above a boundary face makes flat ones.
+  stage("relax inner points", [&] {
+    const RelaxInteriorPointsReport relaxed = relax_interior_points(tets);
+    std::ostringstream out;
+    out << count_text("interior points moved", relaxed.moved) << ", worst tet shape " << relaxed.worst_before << " -> "
+        << relaxed.worst_after;
+    return out.str();
+  });
+}
+
+// Final node count for a given eps: coarsen and tet-mesh as the pipeline does, then count
+// what THex and dicing would make (projection and untangling move nodes, they add none).
+size_t predicted_nodes(const TriSurface& input, const PipelineOptions& options, double eps) {
+  TriSurface coarse = coarsen(input, coarsen_options_for(options, eps)).surface;
+  prepare_coarse_surface(coarse, options);
+  verify_coarse_surface(coarse, "coarse surface");
   TetMesh tets = tetrahedralize(coarse, tetgen_options_for(options));
-  if (options.project) {
-    cone_edge_clusters(tets);
-    remove_boundary_edges(tets);
-    flip_three_tet_edges(tets);
-    collapse_interior_vertices(tets);
-    split_surface_tets(tets);
-    flip_worst_tets(tets);  // a 2-3 flip adds a tet; moving points (relax) adds nothing
-  }
+  if (options.project) improve_tets_for_projection(tets, [](const std::string&, const std::function<std::string()>& step) { step(); });
   return diced_thex_nodes(count_tet_entities(tets), options.dice);
 }
 
@@ -214,24 +282,10 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
       std::string detail = count_text("triangles", result.coarse.triangles.size());
       if (coarse.thin_wall_vertices)
         detail += " (" + count_text("input vertices", coarse.thin_wall_vertices) + " sized by wall thickness)";
-      // With projection, a flat three-triangle vertex would leave hexes no untangler makes good.
-      const size_t flat = options.project ? remove_flat_valence3_vertices(result.coarse) : 0;
-      if (flat) detail += ", " + count_text("flat three-triangle vertices removed", flat);
-      // Needles on flat cut faces would become sliver tets: refined in their plane.
-      const RefineFlatNeedlesReport needles = refine_flat_needles(result.coarse);
-      if (needles.vertices_added)
-        detail += ", " + std::to_string(needles.needles_before) + " needles on flat faces refined (" +
-                  count_text("vertices added", needles.vertices_added) + ", " + std::to_string(needles.needles_after) +
-                  " left)";
-      return detail;
+      return detail + prepare_coarse_surface(result.coarse, options);
     });
     timed_stage(result, progress, "verify coarse", [&] {
-      // The guard in front of TetGen: a self-intersecting coarse surface would crash it.
-      try {
-        result.coarse_summary = summarize_surface(verify_surface(result.coarse, input_path + " (coarse surface)"));
-      } catch (const InputError& e) {
-        throw MeshingError(std::string("coarsening produced an invalid surface: ") + e.what());
-      }
+      result.coarse_summary = verify_coarse_surface(result.coarse, input_path + " (coarse surface)");
       return count_text("vertices", result.coarse_summary.vertices);
     });
   }
@@ -244,58 +298,14 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
     return count_text("tets", result.tets);
   });
   if (!options.thex_only && options.project) {
-    // Interior edges and faces between boundary vertices would give hexes that cannot all be
-    // valid once the boundary is on the smooth input surface.
-    // First the clusters of such edges that one cone point replaces, then flips, which add
-    // no point, and midpoint splits only where no flip is allowed.
-    timed_stage(result, progress, "flip boundary edges", [&] {
-      const size_t coned = cone_edge_clusters(tets);
-      const RemoveBoundaryEdgesReport removed = remove_boundary_edges(tets);
-      result.tets = tets.tets.size();
-      return count_text("clusters coned", coned) + ", then of " + std::to_string(removed.candidates) +
-             " interior edges between boundary vertices " + std::to_string(removed.removed) + " flipped away and " +
-             std::to_string(removed.split) + " split, " + count_text("tets", result.tets);
+    improve_tets_for_projection(tets, [&](const std::string& name, const std::function<std::string()>& step) {
+      timed_stage(result, progress, name, [&] {
+        const std::string detail = step();
+        result.tets = tets.tets.size();
+        return detail;
+      });
     });
-    // Then fewer tets (3-2 flips, then fewer interior points) where that does not lower the
-    // local worst tet shape.
-    timed_stage(result, progress, "flip 3-2", [&] {
-      const FlipThreeTetEdgesReport flips = flip_three_tet_edges(tets);
-      result.tets = tets.tets.size();
-      return count_text("three-tet edges flipped", flips.flips) + ", " + count_text("tets", result.tets);
-    });
-    timed_stage(result, progress, "merge inner points", [&] {
-      const CollapseInteriorVerticesReport collapsed = collapse_interior_vertices(tets);
-      result.tets = tets.tets.size();
-      return count_text("interior vertices merged into a neighbour", collapsed.collapsed) + ", " +
-             count_text("tets", result.tets);
-    });
-    timed_stage(result, progress, "split surface tets", [&] {
-      const SplitSurfaceTetsReport split = split_surface_tets(tets);
-      result.tets = tets.tets.size();
-      result.tet_shape = summarize(tet_shapes(tets));  // the tets THex gets
-      return count_text("tets split", split.split_tets) + ", " + count_text("interior edges split", split.split_edges) +
-             ", " + count_text("interior faces split", split.split_faces);
-    });
-    // Then the worst tets left (a boundary face with a point close above it, on thin walls):
-    // first other connectivity around them, then the interior points moved.
-    timed_stage(result, progress, "flip worst tets", [&] {
-      const FlipWorstTetsReport flips = flip_worst_tets(tets);
-      result.tets = tets.tets.size();
-      std::ostringstream out;
-      out << count_text("edges removed", flips.edge_removals) << ", " << count_text("faces flipped 2-3", flips.face_flips)
-          << ", worst tet shape " << flips.worst_before << " -> " << flips.worst_after;
-      return out.str();
-    });
-    // The splits' points (and TetGen's) where the worst tet around each is best: THex hands a
-    // tet's shape on to its hexes, and a point just above a boundary face makes flat ones.
-    timed_stage(result, progress, "relax inner points", [&] {
-      const RelaxInteriorPointsReport relaxed = relax_interior_points(tets);
-      result.tet_shape = summarize(tet_shapes(tets));  // the tets THex gets
-      std::ostringstream out;
-      out << count_text("interior points moved", relaxed.moved) << ", worst tet shape " << relaxed.worst_before
-          << " -> " << relaxed.worst_after;
-      return out.str();
-    });
+    result.tet_shape = summarize(tet_shapes(tets));  // the tets THex gets
   }
 
   timed_stage(result, progress, "thex", [&] {
