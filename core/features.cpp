@@ -114,4 +114,19 @@ std::vector<char> nodes_on_feature_edges(const HexMesh& mesh, const TriSurface& 
   return on_feature;
 }
 
+bool on_surface_crease(const TriangleBvh& surface, const std::vector<Vec3>& normals, const Vec3& x, const Vec3& normal,
+                       double radius, double min_cos, bool convex_only) {
+  const Eigen::AlignedBox3d box(x - Vec3::Constant(radius), x + Vec3::Constant(radius));
+  bool crease = false;
+  const auto& p = surface.points();
+  surface.for_each_in_box(box, [&](int t) {
+    if (crease || normals[size_t(t)].dot(normal) >= min_cos) return;
+    const auto& f = surface.triangles()[size_t(t)];
+    if (convex_only && ((p[size_t(f[0])] + p[size_t(f[1])] + p[size_t(f[2])]) / 3 - x).dot(normal) > 0) return;
+    const Vec3 c = closest_point_on_triangle(x, p[size_t(f[0])], p[size_t(f[1])], p[size_t(f[2])]);
+    if ((c - x).squaredNorm() <= radius * radius) crease = true;
+  });
+  return crease;
+}
+
 }  // namespace dthex

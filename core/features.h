@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/surface_mesh.h"
+#include "core/triangle_bvh.h"
 #include "core/types.h"
 
 #include <array>
@@ -38,6 +39,13 @@ std::vector<std::array<int, 2>> feature_edges(const TriSurface& surface, double 
 //! lines; any other node that projection puts on a crease got there by accident.
 std::vector<char> nodes_on_feature_edges(const HexMesh& mesh, const TriSurface& coarse,
                                          double angle_deg = kDefaultFeatureAngleDeg);
+
+//! True if a triangle of `surface` within `radius` of x faces away from `normal` by more
+//! than acos(min_cos): x is on a crease or corner, which a slide on the surface would round
+//! off. With `convex_only`, a triangle rising above x's tangent plane (the far wall of a
+//! concave crease) does not count. `normals` are the unit normals of surface's triangles.
+bool on_surface_crease(const TriangleBvh& surface, const std::vector<Vec3>& normals, const Vec3& x, const Vec3& normal,
+                       double radius, double min_cos, bool convex_only);
 
 //! Marks features on an OpenMesh mesh for the Decimater: edge and vertex status feature()
 //! on feature edges and their vertices, and locked() on corners (never removed). Clears

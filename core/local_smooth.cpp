@@ -268,24 +268,6 @@ class NodeSmoother {
     return true;
   }
 
-  // True if a surface triangle within `radius` of x faces more than the allowed turn away
-  // from `normal`: x is on a feature edge or corner, which a slide would round off. With
-  // `convex_only`, a triangle rising above x's tangent plane (the far wall of a concave
-  // crease) does not count.
-  bool on_feature(const Vec3& x, const Vec3& normal, double radius, bool convex_only) const {
-    const Eigen::AlignedBox3d box(x - Vec3::Constant(radius), x + Vec3::Constant(radius));
-    bool feature = false;
-    const auto& p = surface_.points();
-    surface_.for_each_in_box(box, [&](int t) {
-      if (feature || surface_normals_[size_t(t)].dot(normal) >= min_normal_cos_) return;
-      const auto& f = surface_.triangles()[size_t(t)];
-      if (convex_only && ((p[size_t(f[0])] + p[size_t(f[1])] + p[size_t(f[2])]) / 3 - x).dot(normal) > 0) return;
-      const Vec3 c = closest_point_on_triangle(x, p[size_t(f[0])], p[size_t(f[1])], p[size_t(f[2])]);
-      if ((c - x).squaredNorm() <= radius * radius) feature = true;
-    });
-    return feature;
-  }
-
   // The mean of v's edge neighbours (each counted once per hex that holds the edge): the
   // Laplacian guess, which on a hex mesh evens out edge lengths and angles together. Also
   // the mean length of those edges, the node's length scale.
@@ -344,7 +326,7 @@ class NodeSmoother {
       // one stays only on a convex crease (projection piles nodes of both neighbouring
       // facets onto a convex edge, and they trace it; on a concave one they are a mistake).
       const bool held = !options_.feature_nodes || (*options_.feature_nodes)[size_t(v)];
-      if (on_feature(x, normal, 1e-6 * scale, !held)) return false;
+      if (on_surface_crease(surface_, surface_normals_, x, normal, 1e-6 * scale, min_normal_cos_, !held)) return false;
     }
     auto tangential = [&](Vec3 d) { return is_boundary_[size_t(v)] ? Vec3(d - d.dot(normal) * normal) : d; };
 
