@@ -189,7 +189,8 @@ size_t predicted_nodes(const TriSurface& input, const PipelineOptions& options, 
   prepare_coarse_surface(coarse, options);
   verify_coarse_surface(coarse, "coarse surface");
   TetMesh tets = tetrahedralize(coarse, tetgen_options_for(options));
-  if (options.project) improve_tets_for_projection(tets, [](const std::string&, const std::function<std::string()>& step) { step(); });
+  const StageRunner silently = [](const std::string&, const std::function<std::string()>& step) { step(); };
+  if (options.project) improve_tets_for_projection(tets, silently);
   return diced_thex_nodes(count_tet_entities(tets), options.dice);
 }
 
@@ -325,11 +326,15 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
     // Before projection moves them: the nodes that lie on the coarse surface's feature lines.
     const std::vector<char> feature_nodes = nodes_on_feature_edges(result.hexes, result.coarse);
     timed_stage(result, progress, "project", [&] {
-      const ProjectReport report = project_boundary(result.hexes, result.coarse, result.input, input_bvh);
+      ProjectOptions project_options;
+      project_options.held_nodes = &feature_nodes;  // the relaxation leaves them on their feature lines
+      const ProjectReport report =
+          project_boundary(result.hexes, result.coarse, result.input, input_bvh, project_options);
       std::ostringstream out;
       out << report.projected_nodes << " boundary nodes projected (largest move " << report.max_displacement << ")";
       if (report.far_nodes) out << ", " << report.far_nodes << " beyond their facet's reach";
       if (report.unconstrained_nodes) out << ", " << report.unconstrained_nodes << " with no surface facing their way";
+      if (report.relaxed_moves) out << ", then relaxed on the surface (" << report.relaxed_moves << " moves)";
       return out.str();
     });
     timed_stage(result, progress, "untangle", [&] {

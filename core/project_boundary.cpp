@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "core/project_boundary.h"
 
+#include "core/relax_boundary_nodes.h"
+
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -209,6 +211,13 @@ ProjectReport project_boundary(HexMesh& mesh, const TriSurface& coarse, const Tr
   report.unconstrained_nodes = unconstrained;
   report.far_nodes = far;
   report.max_displacement = max_displacement;
+  if (options.relax_rounds > 0) {
+    RelaxBoundaryOptions relax;
+    relax.rounds = options.relax_rounds;
+    static const std::vector<char> none;
+    const std::vector<char>& held = options.held_nodes ? *options.held_nodes : none;
+    report.relaxed_moves = relax_boundary_nodes(mesh, coarse, fine_bvh, held, displacement, relax).moves;
+  }
   if (options.move_interior)
     move_interior_harmonically(mesh, displacement, options.interior_max_iterations, options.interior_tolerance);
   return report;

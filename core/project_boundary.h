@@ -6,6 +6,8 @@
 #include "core/triangle_bvh.h"
 #include "core/types.h"
 
+#include <vector>
+
 namespace dthex {
 
 struct ProjectOptions {
@@ -28,6 +30,13 @@ struct ProjectOptions {
   //! the same shapes, but the armadillo entered the untangler with one more inverted hex
   //! and ended at min scaled Jacobian 0.077 instead of 0.121.
   double interior_tolerance = 1e-5;
+  //! Before the interior moves: rounds of boundary relaxation on the fine surface (see
+  //! relax_boundary_nodes(); 0 = none). The nodes marked in `held_nodes` (the coarse
+  //! surface's feature lines) stay where projection put them. 3 rounds took the armadillo
+  //! from min scaled Jacobian 0.154 to 0.169 and the aneurysm from 0.234 to 0.262; the
+  //! fandisk's Hausdorff distance rose from 0.64% to 0.80% of its diagonal.
+  int relax_rounds = 3;
+  const std::vector<char>* held_nodes = nullptr;
 };
 
 struct ProjectReport {
@@ -35,12 +44,13 @@ struct ProjectReport {
   size_t far_nodes = 0;          //!< nodes that had to travel further than the bound
   size_t unconstrained_nodes = 0;  //!< no normal-compatible triangle existed: plain closest point
   double max_displacement = 0;
+  size_t relaxed_moves = 0;  //!< node moves of the boundary relaxation, over its rounds
 };
 
 //! Moves every boundary node (mesh.boundary_facet[n] >= 0, a triangle of `coarse`) to the
 //! closest point of `fine` among the triangles that face the same way as its coarse facet,
-//! then (options.move_interior) moves interior nodes by the harmonic extension of the
-//! boundary displacement.
+//! relaxes them on `fine` (options.relax_rounds), then (options.move_interior) moves interior
+//! nodes by the harmonic extension of the boundary displacement.
 //! \throw InputError if mesh.boundary_facet is missing or names a triangle `coarse` lacks.
 ProjectReport project_boundary(HexMesh& mesh, const TriSurface& coarse, const TriSurface& fine,
                                const TriangleBvh& fine_bvh, const ProjectOptions& options = {});
