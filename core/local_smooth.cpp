@@ -5,6 +5,7 @@
 #include "core/quality.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <chrono>
 #include <cmath>
 #include <numeric>
@@ -88,6 +89,11 @@ class NodeSmoother {
     for (size_t h = 0; h < sj_.size(); ++h)
       if (sj_[h] < target) queue.push({sj_[h], int(h)});
     std::vector<unsigned char> attempts(sj_.size(), 0);
+    // A node's search depends only on the nodes of its own hexes: one that failed is not
+    // searched again until one of those moves (it would fail the same way). Hexes below the
+    // target share nodes, so where they cannot be raised most searches are such repeats.
+    std::vector<uint32_t> changed(mesh_.nodes.size(), 0), failed_at(mesh_.nodes.size(), 0);
+    uint32_t move_count = 0;
     size_t popped = 0;
     while (!queue.empty()) {
       const auto [value, h] = queue.top();
@@ -108,10 +114,17 @@ class NodeSmoother {
       }
       for (size_t n = 0; n < count; ++n) {
         const int v = nodes[n];
-        if (!improve_node(v, false, scratch_)) continue;
+        if (failed_at[size_t(v)] == changed[size_t(v)] + 1) continue;
+        if (!improve_node(v, false, scratch_)) {
+          failed_at[size_t(v)] = changed[size_t(v)] + 1;
+          continue;
+        }
         ++report.moves;
-        for (const Incidence& i : node_hexes_[size_t(v)])
+        ++move_count;
+        for (const Incidence& i : node_hexes_[size_t(v)]) {
+          for (int w : mesh_.hexes[size_t(i.hex)]) changed[size_t(w)] = move_count;
           if (sj_[size_t(i.hex)] < target) queue.push({sj_[size_t(i.hex)], i.hex});
+        }
       }
     }
   }
