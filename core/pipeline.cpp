@@ -17,6 +17,7 @@
 #include "core/remove_flat_valence3_vertices.h"
 #include "core/remove_boundary_edges.h"
 #include "core/repair_boundary_folds.h"
+#include "core/repair_worst_hexes.h"
 #include "core/split_surface_tets.h"
 #include "core/surface_distance.h"
 #include "core/tetrahedralize.h"
@@ -257,12 +258,34 @@ PipelineResult read_and_verify(const std::string& input_path, Progress& progress
 
 namespace {
 
+// Whether a poor mesh of these options can be meshed again sized by wall thickness
+// (PipelineOptions::thickness_retry), and whether thin walls are the likely cause of it.
+bool thickness_retry_possible(const PipelineOptions& options) {
+  return options.thickness_retry && options.thickness_ratio <= 0 && options.target_nodes == 0 && !options.thex_only &&
+         options.project;
+}
+bool thin_walls_likely_cause(const PipelineResult& result) {
+  return result.thin_wall_vertices * 20 >= result.input_summary.vertices;
+}
+
 // Every stage after verification, into `result` (which holds the verified input).
 void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, const PipelineOptions& options,
                          Progress& progress) {
   const std::string& input_path = result.input_path;
   result.thickness_ratio_used = options.thickness_ratio;
   result.eps = options.eps;
+  // With the thickness sizing off: are enough input vertices on walls thinner than their
+  // curvature size that thin walls are the likely cause of poor hexes? Counted once.
+  bool thin_walls_counted = false;
+  auto count_thin_walls = [&] {
+    if (!thin_walls_counted)
+      timed_stage(result, progress, "thin walls", [&] {
+        result.thin_wall_vertices = count_thin_wall_vertices(result.input, coarsen_options_for(options, result.eps));
+        return count_text("input vertices", result.thin_wall_vertices) + " on walls thinner than their size";
+      });
+    thin_walls_counted = true;
+    return thin_walls_likely_cause(result);
+  };
   if (options.target_nodes > 0 && !options.thex_only) {
     timed_stage(result, progress, "choose eps", [&] {
       result.eps = choose_eps_for_nodes(result.input, options, input_path, progress);
@@ -351,16 +374,39 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
       if (report.undone) out << " (its result had more, so it was undone)";
       return out.str();
     });
+    double smoothed_min = 0;
     timed_stage(result, progress, "smooth worst", [&] {
       LocalSmoothOptions smooth_options;
       smooth_options.time_limit_seconds = options.time_limit_seconds;
       smooth_options.feature_nodes = &feature_nodes;
       const LocalSmoothReport report = smooth_worst_hexes(result.hexes, input_bvh, smooth_options);
+      smoothed_min = report.min_scaled_jacobian_after;
       std::ostringstream out;
       out << "min scaled Jacobian " << report.min_scaled_jacobian_before << " -> " << report.min_scaled_jacobian_after
           << ", avg shape " << report.avg_shape_before << " -> " << report.avg_shape_after;
       return out.str();
     });
+    RepairWorstHexesOptions repair_options;
+    repair_options.feature_nodes = &feature_nodes;
+    repair_options.time_limit_seconds = options.time_limit_seconds;
+    // Hexes left below the threshold make this mesh poor. If thin walls are then the likely
+    // cause, run_pipeline meshes again sized by thickness whatever the repair reaches, so the
+    // repair waits for that mesh (on skull_hollow's curvature-sized mesh it ran 70 s for nothing).
+    if (options.repair_worst_hexes && smoothed_min < repair_options.threshold &&
+        !(thickness_retry_possible(options) && count_thin_walls()))
+      timed_stage(result, progress, "repair worst", [&] {
+        const RepairWorstHexesReport report = repair_worst_hexes(result.hexes, input_bvh, repair_options);
+        std::ostringstream out;
+        out << count_text("hexes", report.below_before) << " below scaled Jacobian " << repair_options.threshold;
+        if (report.undone)
+          out << ": the region solve and smoothing ended worse (min " << report.min_after_region_solve
+              << "), undone";
+        else
+          out << " -> " << report.below_after << ", min scaled Jacobian " << report.min_scaled_jacobian_before << " -> "
+              << report.min_scaled_jacobian_after;
+        if (report.time_limit_reached) out << " (time limit reached)";
+        return out.str();
+      });
   }
 
   // The conformity check, made once: by the fold repair, which needs its boundary quads and
@@ -411,11 +457,7 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
   });
   // Poor hexes left with the wall-thickness sizing off: are thin walls the likely cause?
   const bool poor = result.quality.inverted > 0 || result.quality.below_0_2 > 0;
-  if (poor && !options.thex_only && options.thickness_ratio <= 0)
-    timed_stage(result, progress, "thin walls", [&] {
-      result.thin_wall_vertices = count_thin_wall_vertices(result.input, coarsen_options_for(options, result.eps));
-      return count_text("input vertices", result.thin_wall_vertices) + " on walls thinner than their size";
-    });
+  if (poor && !options.thex_only && options.thickness_ratio <= 0) count_thin_walls();
 }
 
 // The order in which two meshes of one input are preferred: a conforming mesh, then fewer
@@ -446,8 +488,7 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
   // Thin walls sized by curvature alone are the commonest cause of poor hexes; when they are
   // the likely cause here, mesh again sized by the thickness and keep the better mesh.
   const bool poor = result.quality.inverted > 0 || result.quality.below_0_2 > 0;
-  if (options.thickness_retry && options.thickness_ratio <= 0 && options.target_nodes == 0 && !options.thex_only &&
-      options.project && poor && result.thin_wall_vertices * 20 >= result.input_summary.vertices) {
+  if (thickness_retry_possible(options) && poor && thin_walls_likely_cause(result)) {
     PipelineResult retry;
     retry.input_path = result.input_path;
     retry.input = result.input;

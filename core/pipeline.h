@@ -30,6 +30,9 @@ struct PipelineOptions {
   bool thex_only = false;           //!< classic THex of the input: no coarsening, dicing, projection
   bool project = true;              //!< put the boundary back on the input surface
   bool strict = false;              //!< fail (MeshingError) if an inverted hex remains
+  //! Hexes the local smoother leaves below scaled Jacobian 0.2 get a region repair
+  //! (repair_worst_hexes.h); off only to measure what it brings.
+  bool repair_worst_hexes = true;
   std::string tetgen_switches = "pq1.2Y";
   double time_limit_seconds = 600;  //!< bound for TetGen and the optimizer each
   bool global_smoothing = false;    //!< smooth the coarse surface globally (the paper's comparison)

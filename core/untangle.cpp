@@ -393,7 +393,9 @@ class Untangler {
   // boundary nodes among them move in their tangent plane and go back onto the surface
   // after every round. The cost follows the size of the region, not of the mesh.
   void run_phase(Phase& ph, const std::vector<size_t>& movable, int max_rounds, int max_iterations) {
-    ph.movable_nodes = movable;
+    ph.movable_nodes.clear();
+    for (size_t v : movable)
+      if (!(is_boundary_[v] && options_.held && options_.held(v))) ph.movable_nodes.push_back(v);
     ph.timed_out = false;
     ph.sliding_nodes.clear();
     int n_vars = 0;

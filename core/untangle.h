@@ -10,6 +10,8 @@
 #include "core/triangle_bvh.h"
 #include "core/types.h"
 
+#include <functional>
+
 #include <vector>
 
 namespace dthex {
@@ -45,6 +47,9 @@ struct UntangleOptions {
   //! to this many passes.
   bool slide_boundary = true;
   int max_boundary_phases = 3;
+  //! Optional: boundary nodes for which it returns true never move (e.g. nodes on a crease
+  //! of the surface, which a slide would round off). Called concurrently: must not write.
+  std::function<bool(size_t node)> held;
   //! Rounds of the first, interior-only repair when the boundary may slide afterwards.
   //! Fewer rounds save time where the fixed boundary cannot undo an inversion (6 took a
   //! sixth off the spot's untangling) but leave more to the sliding repair, which cost
