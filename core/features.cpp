@@ -129,4 +129,30 @@ bool on_surface_crease(const TriangleBvh& surface, const std::vector<Vec3>& norm
   return crease;
 }
 
+CreaseKind crease_at(const TriangleBvh& surface, const std::vector<Vec3>& normals, const Vec3& x, const Vec3& normal,
+                     double radius, double min_cos, Vec3& direction) {
+  const Eigen::AlignedBox3d box(x - Vec3::Constant(radius), x + Vec3::Constant(radius));
+  std::vector<Vec3> faces;
+  bool concave = false;
+  const auto& p = surface.points();
+  surface.for_each_in_box(box, [&](int t) {
+    const Vec3& n = normals[size_t(t)];
+    if (n.squaredNorm() == 0) return;
+    const auto& f = surface.triangles()[size_t(t)];
+    const Vec3 c = closest_point_on_triangle(x, p[size_t(f[0])], p[size_t(f[1])], p[size_t(f[2])]);
+    if ((c - x).squaredNorm() > radius * radius) return;
+    for (const Vec3& m : faces)
+      if (m.dot(n) >= min_cos) return;
+    faces.push_back(n);
+    if (n.dot(normal) < min_cos && ((p[size_t(f[0])] + p[size_t(f[1])] + p[size_t(f[2])]) / 3 - x).dot(normal) > 0)
+      concave = true;
+  });
+  if (faces.size() <= 1) return CreaseKind::none;
+  if (faces.size() > 2) return CreaseKind::corner;
+  const Vec3 line = faces[0].cross(faces[1]);
+  if (!(line.norm() > 0)) return CreaseKind::corner;
+  direction = line.normalized();
+  return concave ? CreaseKind::concave_line : CreaseKind::convex_line;
+}
+
 }  // namespace dthex

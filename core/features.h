@@ -47,6 +47,13 @@ std::vector<char> nodes_on_feature_edges(const HexMesh& mesh, const TriSurface& 
 bool on_surface_crease(const TriangleBvh& surface, const std::vector<Vec3>& normals, const Vec3& x, const Vec3& normal,
                        double radius, double min_cos, bool convex_only);
 
+//! What the triangles of `surface` within `radius` of x make there, their normals grouped
+//! by `min_cos`: one face (none), two faces meeting on a line, convex or concave as seen from
+//! `normal` (the line's unit direction into `direction`), or three and more (a corner).
+enum class CreaseKind { none, convex_line, concave_line, corner };
+CreaseKind crease_at(const TriangleBvh& surface, const std::vector<Vec3>& normals, const Vec3& x, const Vec3& normal,
+                     double radius, double min_cos, Vec3& direction);
+
 //! Marks features on an OpenMesh mesh for the Decimater: edge and vertex status feature()
 //! on feature edges and their vertices, and locked() on corners (never removed). Clears
 //! the bits elsewhere. Returns what it marked, indexed like the mesh's vertices.

@@ -395,7 +395,7 @@ class Untangler {
   void run_phase(Phase& ph, const std::vector<size_t>& movable, int max_rounds, int max_iterations) {
     ph.movable_nodes.clear();
     for (size_t v : movable)
-      if (!(is_boundary_[v] && options_.held && options_.held(v))) ph.movable_nodes.push_back(v);
+      if (!(is_boundary_[v] && options_.held && options_.held(v, mesh_.nodes[v]))) ph.movable_nodes.push_back(v);
     ph.timed_out = false;
     ph.sliding_nodes.clear();
     int n_vars = 0;
@@ -504,6 +504,7 @@ class Untangler {
       const Vec3 helper = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
       tangent1_[v] = n.cross(helper).normalized();
       tangent2_[v] = n.cross(tangent1_[v]);
+      if (options_.held && options_.held(v, mesh_.nodes[v])) tangent1_[v] = tangent2_[v] = Vec3::Zero();
     }
   }
 

@@ -47,9 +47,10 @@ struct UntangleOptions {
   //! to this many passes.
   bool slide_boundary = true;
   int max_boundary_phases = 3;
-  //! Optional: boundary nodes for which it returns true never move (e.g. nodes on a crease
-  //! of the surface, which a slide would round off). Called concurrently: must not write.
-  std::function<bool(size_t node)> held;
+  //! Optional: boundary nodes that must not move where they stand, asked before each round
+  //! (e.g. on a crease of the surface, which a slide in the tangent plane would round off;
+  //! a node that slid onto one stops there). Called concurrently: must not write.
+  std::function<bool(size_t node, const Vec3& at)> held;
   //! Rounds of the first, interior-only repair when the boundary may slide afterwards.
   //! Fewer rounds save time where the fixed boundary cannot undo an inversion (6 took a
   //! sixth off the spot's untangling) but leave more to the sliding repair, which cost
