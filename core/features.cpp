@@ -114,6 +114,16 @@ std::vector<char> nodes_on_feature_edges(const HexMesh& mesh, const TriSurface& 
   return on_feature;
 }
 
+std::vector<Vec3> unit_triangle_normals(const std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& triangles) {
+  std::vector<Vec3> normals(triangles.size());
+  for (size_t t = 0; t < triangles.size(); ++t) {
+    const auto& f = triangles[t];
+    const Vec3 c = (points[size_t(f[1])] - points[size_t(f[0])]).cross(points[size_t(f[2])] - points[size_t(f[0])]);
+    normals[t] = c.norm() > 0 ? Vec3(c.normalized()) : Vec3::Zero();
+  }
+  return normals;
+}
+
 bool on_surface_crease(const TriangleBvh& surface, const std::vector<Vec3>& normals, const Vec3& x, const Vec3& normal,
                        double radius, double min_cos, bool convex_only) {
   const Eigen::AlignedBox3d box(x - Vec3::Constant(radius), x + Vec3::Constant(radius));

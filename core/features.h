@@ -40,6 +40,10 @@ std::vector<std::array<int, 2>> feature_edges(const TriSurface& surface, double 
 std::vector<char> nodes_on_feature_edges(const HexMesh& mesh, const TriSurface& coarse,
                                          double angle_deg = kDefaultFeatureAngleDeg);
 
+//! The unit normal of every triangle (zero for a degenerate one): what the crease tests
+//! below take as `normals`.
+std::vector<Vec3> unit_triangle_normals(const std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& triangles);
+
 //! True if a triangle of `surface` within `radius` of x faces away from `normal` by more
 //! than acos(min_cos): x is on a crease or corner, which a slide on the surface would round
 //! off. With `convex_only`, a triangle rising above x's tangent plane (the far wall of a

@@ -41,13 +41,7 @@ class NodeSmoother {
       sj_[h] = q.scaled_jacobian;
       shape_[h] = q.shape;
     }
-    surface_normals_.resize(surface.triangles().size());
-    for (size_t t = 0; t < surface_normals_.size(); ++t) {
-      const auto& f = surface.triangles()[t];
-      const auto& p = surface.points();
-      const Vec3 c = (p[size_t(f[1])] - p[size_t(f[0])]).cross(p[size_t(f[2])] - p[size_t(f[0])]);
-      surface_normals_[t] = c.norm() > 0 ? Vec3(c.normalized()) : Vec3::Zero();
-    }
+    surface_normals_ = unit_triangle_normals(surface.points(), surface.triangles());
     min_normal_cos_ = std::cos(options_.max_normal_turn_deg * M_PI / 180.0);
   }
 

@@ -7,15 +7,6 @@
 #include <cmath>
 
 namespace dthex {
-namespace {
-
-Vec3 triangle_normal(const std::vector<Vec3>& p, const std::array<int, 3>& f) {
-  const Vec3 c = (p[size_t(f[1])] - p[size_t(f[0])]).cross(p[size_t(f[2])] - p[size_t(f[0])]);
-  return c.norm() > 0 ? Vec3(c.normalized()) : Vec3::Zero();
-}
-
-}  // namespace
-
 RelaxBoundaryReport relax_boundary_nodes(HexMesh& mesh, const TriSurface& coarse, const TriangleBvh& surface,
                                          const std::vector<char>& held, std::vector<Vec3>& displacement,
                                          const RelaxBoundaryOptions& options) {
@@ -43,12 +34,8 @@ RelaxBoundaryReport relax_boundary_nodes(HexMesh& mesh, const TriSurface& coarse
     }
     movable.push_back(int(v));
   }
-  std::vector<Vec3> surface_normals(surface.triangles().size());
-  for (size_t t = 0; t < surface_normals.size(); ++t)
-    surface_normals[t] = triangle_normal(surface.points(), surface.triangles()[t]);
-  std::vector<Vec3> coarse_normals(coarse.triangles.size());
-  for (size_t t = 0; t < coarse.triangles.size(); ++t)
-    coarse_normals[t] = triangle_normal(coarse.points, coarse.triangles[t]);
+  const std::vector<Vec3> surface_normals = unit_triangle_normals(surface.points(), surface.triangles());
+  const std::vector<Vec3> coarse_normals = unit_triangle_normals(coarse.points, coarse.triangles);
   const double min_turn_cos = std::cos(options.max_normal_turn_deg * M_PI / 180.0);
 
   auto facing_side = [&](size_t v) {

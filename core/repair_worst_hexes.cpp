@@ -57,13 +57,7 @@ RepairWorstHexesReport repair_worst_hexes(HexMesh& mesh, const TriangleBvh& surf
   // 16-degree knife edge slid down its faces and cut it off (Hausdorff 27% of the
   // bounding-box diagonal); made to slide along the crease line instead, skull_hollow's
   // ended with a lower minimum (0.062 against 0.088) and was undone.
-  std::vector<Vec3> normals(surface.triangles().size());
-  for (size_t t = 0; t < normals.size(); ++t) {
-    const auto& f = surface.triangles()[t];
-    const auto& p = surface.points();
-    const Vec3 n = (p[size_t(f[1])] - p[size_t(f[0])]).cross(p[size_t(f[2])] - p[size_t(f[0])]);
-    normals[t] = n.norm() > 0 ? Vec3(n.normalized()) : Vec3::Zero();
-  }
+  const std::vector<Vec3> normals = unit_triangle_normals(surface.points(), surface.triangles());
   const double min_cos = std::cos(options.max_normal_turn_deg * M_PI / 180.0);
   const double radius = 1e-7 * surface.bounds().diagonal().norm();
   region.held = [&](size_t v, const Vec3& at) {

@@ -11,7 +11,6 @@
 #include "core/types.h"
 
 #include <functional>
-
 #include <vector>
 
 namespace dthex {
