@@ -243,6 +243,108 @@ TetMesh decode(const std::vector<char>& data, size_t n_input_triangles) {
   return mesh;
 }
 
+//! TetGen fills every region the facets enclose, a cavity included (it removes only what
+//! lies outside the outermost surface, unless given a hole point, which a cavity of any
+//! shape makes hard to place). So the tets are grouped into regions joined across faces
+//! that lie on no facet; a region touching the mesh's outside is material, and crossing a
+//! facet between two regions alternates material and cavity, as the nesting of the
+//! surface's components does. This needs no orientation of the input, only its facets.
+//! Tets of cavity regions, and the points only they use, are dropped.
+void keep_material_tets(TetMesh& mesh) {
+  struct TetFace {
+    std::array<int, 3> key;
+    int tet;
+    bool operator<(const TetFace& o) const { return key < o.key; }
+  };
+  std::vector<TetFace> faces;
+  faces.reserve(4 * mesh.tets.size());
+  for (size_t t = 0; t < mesh.tets.size(); ++t)
+    for (int f = 0; f < 4; ++f) {
+      const auto& tet = mesh.tets[t];
+      std::array<int, 3> key = {tet[size_t((f + 1) % 4)], tet[size_t((f + 2) % 4)], tet[size_t((f + 3) % 4)]};
+      std::sort(key.begin(), key.end());
+      faces.push_back({key, int(t)});
+    }
+  std::sort(faces.begin(), faces.end());
+  std::vector<std::array<int, 3>> facet_faces = mesh.boundary_faces;
+  for (auto& f : facet_faces) std::sort(f.begin(), f.end());
+  std::sort(facet_faces.begin(), facet_faces.end());
+  auto on_facet = [&](const std::array<int, 3>& key) {
+    return std::binary_search(facet_faces.begin(), facet_faces.end(), key);
+  };
+
+  // Regions: union-find over tets sharing a face that lies on no facet.
+  std::vector<int> parent(mesh.tets.size());
+  for (size_t t = 0; t < parent.size(); ++t) parent[t] = int(t);
+  auto find = [&](int t) {
+    while (parent[size_t(t)] != t) t = parent[size_t(t)] = parent[size_t(parent[size_t(t)])];
+    return t;
+  };
+  for (size_t i = 0; i + 1 < faces.size(); ++i)
+    if (faces[i].key == faces[i + 1].key && !on_facet(faces[i].key)) parent[size_t(find(faces[i].tet))] = find(faces[i + 1].tet);
+
+  // Depth of each region: 0 where a face has one tet (the outside), +1 across each facet.
+  std::vector<int> depth(mesh.tets.size(), -1);
+  std::vector<std::vector<int>> across(mesh.tets.size());
+  std::vector<int> queue;
+  for (size_t i = 0; i < faces.size();) {
+    size_t j = i + 1;
+    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+    const int a = find(faces[i].tet);
+    if (j - i == 1 && depth[size_t(a)] < 0) {
+      depth[size_t(a)] = 0;
+      queue.push_back(a);
+    } else if (j - i == 2) {
+      const int b = find(faces[i + 1].tet);
+      if (a != b) {
+        across[size_t(a)].push_back(b);
+        across[size_t(b)].push_back(a);
+      }
+    }
+    i = j;
+  }
+  for (size_t q = 0; q < queue.size(); ++q)
+    for (int r : across[size_t(queue[q])])
+      if (depth[size_t(r)] < 0) {
+        depth[size_t(r)] = depth[size_t(queue[q])] + 1;
+        queue.push_back(r);
+      }
+  // A region never reached (it cannot happen for a closed surface) is kept as it was.
+  auto is_cavity = [&](size_t t) { return depth[size_t(find(int(t)))] % 2 == 1; };
+  size_t cavity_tets = 0;
+  for (size_t t = 0; t < mesh.tets.size(); ++t) cavity_tets += is_cavity(t);
+  if (cavity_tets == 0) return;
+
+  std::vector<std::array<int, 4>> kept;
+  kept.reserve(mesh.tets.size() - cavity_tets);
+  for (size_t t = 0; t < mesh.tets.size(); ++t)
+    if (!is_cavity(t)) kept.push_back(mesh.tets[t]);
+  mesh.tets = std::move(kept);
+  std::vector<int> new_index(mesh.points.size(), -1);
+  std::vector<Vec3> points;
+  for (auto& tet : mesh.tets)
+    for (int& v : tet) {
+      if (new_index[size_t(v)] < 0) {
+        new_index[size_t(v)] = int(points.size());
+        points.push_back(mesh.points[size_t(v)]);
+      }
+      v = new_index[size_t(v)];
+    }
+  mesh.points = std::move(points);
+  // A facet separates a material region from a cavity, so each facet face keeps a tet;
+  // one that would not (no closed surface makes one) is dropped with its region.
+  size_t kept_faces = 0;
+  for (size_t i = 0; i < mesh.boundary_faces.size(); ++i) {
+    std::array<int, 3> f = mesh.boundary_faces[i];
+    for (int& v : f) v = new_index[size_t(v)];
+    if (std::min({f[0], f[1], f[2]}) < 0) continue;
+    mesh.boundary_faces[kept_faces] = f;
+    mesh.boundary_face_source[kept_faces++] = mesh.boundary_face_source[i];
+  }
+  mesh.boundary_faces.resize(kept_faces);
+  mesh.boundary_face_source.resize(kept_faces);
+}
+
 //! Positive tets, outward boundary faces: checked against the geometry, not assumed.
 void orient(TetMesh& mesh) {
   auto signed_volume6 = [&](int a, int b, int c, int d) {
@@ -335,6 +437,7 @@ TetMesh tetrahedralize(const TriSurface& surface, const TetgenOptions& options) 
   }
   TetMesh mesh = decode(data, surface.triangles.size());
   if (mesh.tets.empty()) throw MeshingError("TetGen returned no tetrahedra for the surface (switches \"" + switches + "\")");
+  keep_material_tets(mesh);
   orient(mesh);
   return mesh;
 }

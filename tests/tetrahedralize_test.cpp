@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <map>
 
 using namespace dthex;
 
@@ -124,4 +126,45 @@ TEST(Tetrahedralize, CubeWithVolumeBound) {
   }
   EXPECT_NEAR(volume, 2.0, 1e-9);
   for (int s : mesh.boundary_face_source) EXPECT_TRUE(s >= 0 && s < 12);
+}
+
+//! TetGen fills every enclosed region; a cavity must stay empty, and a body inside the
+//! cavity is material again. Box [0,5]^3, cavity [1,4]^3, island [2,3]^3: 125 - 27 + 1.
+TEST(Tetrahedralize, CavitiesStayEmptyAndIslandsInThemAreMeshed) {
+  const TriSurface surface =
+      merge(merge(box(Vec3(0, 0, 0), Vec3(5, 5, 5)), box(Vec3(1, 1, 1), Vec3(4, 4, 4))), box(Vec3(2, 2, 2), Vec3(3, 3, 3)));
+  const TetMesh mesh = tetrahedralize(surface);
+  double volume = 0;
+  std::vector<int> used(mesh.points.size(), 0);
+  std::map<std::array<int, 3>, std::vector<size_t>> tets_of_face;
+  for (size_t t = 0; t < mesh.tets.size(); ++t) {
+    const auto& tet = mesh.tets[t];
+    ASSERT_GT(volume6(mesh, tet), 0.0);
+    volume += volume6(mesh, tet) / 6;
+    for (int v : tet) used[size_t(v)] = 1;
+    for (int f = 0; f < 4; ++f) {
+      std::array<int, 3> key = {tet[size_t((f + 1) % 4)], tet[size_t((f + 2) % 4)], tet[size_t((f + 3) % 4)]};
+      std::sort(key.begin(), key.end());
+      tets_of_face[key].push_back(t);
+    }
+  }
+  EXPECT_NEAR(volume, 99.0, 1e-9);
+  EXPECT_EQ(std::count(used.begin(), used.end(), 0), 0) << "points of the dropped cavity tets remain";
+  // Every facet is on the boundary of what is left: one tet, and the face points away from it.
+  ASSERT_EQ(mesh.boundary_faces.size(), 36u);
+  size_t faces_per_box[3] = {0, 0, 0};
+  for (size_t i = 0; i < mesh.boundary_faces.size(); ++i) {
+    const auto& f = mesh.boundary_faces[i];
+    std::array<int, 3> key = f;
+    std::sort(key.begin(), key.end());
+    ASSERT_EQ(tets_of_face[key].size(), 1u) << "face " << i;
+    Vec3 tet_centre = Vec3::Zero();
+    for (int v : mesh.tets[tets_of_face[key][0]]) tet_centre += mesh.points[size_t(v)] / 4;
+    const Vec3 a = mesh.points[size_t(f[0])], b = mesh.points[size_t(f[1])], c = mesh.points[size_t(f[2])];
+    EXPECT_GT((b - a).cross(c - a).dot((a + b + c) / 3 - tet_centre), 0.0) << "face " << i << " points into its tet";
+    ++faces_per_box[size_t(mesh.boundary_face_source[i] / 12)];
+  }
+  EXPECT_EQ(faces_per_box[0], 12u);
+  EXPECT_EQ(faces_per_box[1], 12u);
+  EXPECT_EQ(faces_per_box[2], 12u);
 }
