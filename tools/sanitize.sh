@@ -6,13 +6,15 @@
 # take untrusted input or exercise failure paths (readers, verification, TetGen's process
 # wall, writers, the command, the hostile catalogue, the fuzz regressions); the meshing
 # suites on the big shared meshes run 2-3x slower under ASan and would not fit CI's
-# 15 minutes. `tools/sanitize.sh . '^$'` runs everything.
+# 15 minutes. Only those suites' files are compiled there (tests/CMakeLists.txt lists them:
+# keep it in step with the filter); to run everything, configure build-check with
+# -DDTHEX_SANITIZE_ALL_TESTS=ON and call `tools/sanitize.sh . '^$'`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 filter=${1:-'ReadSurface|VerifySurface|AtomicFile|WriteHexMesh|WriteSurface|RoundTrip|Cli|HostileInput|HostileCatalogue|FailurePaths|MemoryBudget|FuzzRegression|Tetrahedralize|Thex|Dice|Conformity|BoundaryOverlap|RepairBoundaryFolds|RefineFlatNeedles|SummaryTable|RelaxBoundaryNodes|RepairWorstHexes'}
 jobs=$(nproc 2>/dev/null || echo 2)
 CC=clang CXX=clang++ cmake -S . -B build-check -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDTHEX_FUZZ=ON >/dev/null
-cmake --build build-check -j"$jobs" >/dev/null
+cmake --build build-check -j"$jobs" --target dthex_tests >/dev/null  # and om_dthex, which it runs
 # Every ASan or UBSan report is fatal; leaks at exit count.
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:halt_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
@@ -21,6 +23,8 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 # meshing that compares the fold count with the referee (150 s under ASan; the boundary-overlap
 # code itself runs in the other BoundaryOverlap tests and every Cli run), and the knife-edge
 # wedge meshed twice (20 s under ASan; the worst-hex repair runs in the other RepairWorstHexes
-# tests, and is undone on the hostile catalogue's cube with a cavity).
-exclude=${2:-'TargetNodesLand|SharedMeshesVerify|RefereeOnSpot|KeepsAKnifeEdge'}
+# tests), and the hostile catalogue's cube with a cavity (64 s under ASan, nearly all in the
+# worst-hex repair at its 90-degree corners, which it undoes; its reading and verification run
+# in VerifySurface.CubeWithCavity, the cavity's removal in Tetrahedralize.CavitiesStayEmpty...).
+exclude=${2:-'TargetNodesLand|SharedMeshesVerify|RefereeOnSpot|KeepsAKnifeEdge|HostileInput.*CubeWithCavity'}
 ctest --test-dir build-check --output-on-failure -j"$jobs" -R "$filter" -E "$exclude"
