@@ -82,6 +82,9 @@ class NodeSmoother {
     std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
     for (size_t h = 0; h < sj_.size(); ++h)
       if (sj_[h] < target) queue.push({sj_[h], int(h)});
+    const double budget =
+        double(options_.max_attempts_per_hex) *
+        std::max(options_.attempt_budget_fraction * double(sj_.size()), double(options_.attempt_budget_hexes));
     std::vector<unsigned char> attempts(sj_.size(), 0);
     // A node's search depends only on the nodes of its own hexes: one that failed is not
     // searched again until one of those moves (it would fail the same way). Hexes below the
@@ -94,7 +97,8 @@ class NodeSmoother {
       queue.pop();
       if (value != sj_[size_t(h)] || value >= target || attempts[size_t(h)] >= options_.max_attempts_per_hex) continue;
       ++attempts[size_t(h)];
-      if (++popped % 64 == 0 && out_of_time(report)) return;
+      if (double(++popped) > budget) return;
+      if (popped % 64 == 0 && out_of_time(report)) return;
       ++report.sweeps;
       // Only the nodes of the frame where the hex is worst can raise it.
       const auto& hex = mesh_.hexes[size_t(h)];

@@ -20,6 +20,14 @@ struct LocalSmoothOptions {
   //! 6 left vertebra_L1 and spot (coarsened judged after smoothing) at min scaled Jacobian
   //! 0.19 and 0.16; 20 lifts both above 0.2, at most a few seconds more.
   int max_attempts_per_hex = 20;
+  //! And all of them together at most max_attempts_per_hex times this fraction of the
+  //! hexes (or times `attempt_budget_hexes`, if more): where most of the mesh is below the
+  //! target, one node at a time cannot lift it and the worst get the attempts. A 10 x 10 x
+  //! 0.2 plate of needle triangles had 93% of its 66,432 hexes below 0.3 and spent 45 s per
+  //! pass raising its minimum from 0.0024 to 0.0045; the bundled meshes have at most 1%
+  //! below (the femur 970 of 168,064).
+  double attempt_budget_fraction = 0.05;
+  size_t attempt_budget_hexes = 1000;
   //! Shape sweeps after the scaled-Jacobian sweeps: nodes of hexes whose shape is below
   //! `shape_threshold` move to raise the mean shape of their hexes, never letting the
   //! smallest scaled Jacobian around them drop below min(its value, target).

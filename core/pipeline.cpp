@@ -398,7 +398,10 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
         const RepairWorstHexesReport report = repair_worst_hexes(result.hexes, input_bvh, repair_options);
         std::ostringstream out;
         out << count_text("hexes", report.below_before) << " below scaled Jacobian " << repair_options.threshold;
-        if (report.undone)
+        if (report.too_many)
+          out << ", " << std::round(1000.0 * double(report.below_before) / double(result.hexes.hexes.size())) / 10
+              << "% of the mesh: too many for a local repair, not run";
+        else if (report.undone)
           out << ": the region solve and smoothing ended worse (min " << report.min_after_region_solve
               << "), undone";
         else

@@ -42,6 +42,11 @@ RepairWorstHexesReport repair_worst_hexes(HexMesh& mesh, const TriangleBvh& surf
   report.below_before = report.below_after = before.below;
   report.min_scaled_jacobian_before = report.min_scaled_jacobian_after = report.min_after_region_solve = before.min;
   if (before.below == 0) return report;
+  if (before.below > options.always_repaired &&
+      double(before.below) > options.max_below_fraction * double(mesh.hexes.size())) {
+    report.too_many = true;
+    return report;
+  }
 
   const auto start = std::chrono::steady_clock::now();
   UntangleOptions region;

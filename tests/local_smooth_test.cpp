@@ -131,3 +131,38 @@ TEST(LocalSmooth, ValidHexesStayValidAroundAnInvertedOne) {
   EXPECT_EQ(lowered, 0u);
   EXPECT_LE(after.inverted, before.inverted);
 }
+
+// The queue's budget: on a distorted block, with room for 20 queue entries in all
+// (attempts per hex x at least 1 hex), the scaled-Jacobian pass stops after 20, where it
+// needs more to finish; the worst hexes came first, so the minimum still rose.
+TEST(LocalSmooth, AttemptBudgetBoundsTheQueueAndTheWorstComeFirst) {
+  const Vec3 lo(0, 0, 0), hi(1, 1, 1);
+  const TriSurface box = box_surface(lo, hi, 4);
+  // Every interior node of a 6^3 block pushed a third of the spacing along a direction
+  // that changes from node to node: most hexes end below the target.
+  auto distorted = [&] {
+    HexMesh mesh = hex_block(lo, hi, 6, 6, 6);
+    label_boundary(mesh, box);
+    for (size_t v = 0; v < mesh.nodes.size(); ++v)
+      if (!mesh.is_boundary_node(int(v)))
+        mesh.nodes[v] += 0.055 * Vec3(std::cos(2.4 * double(v)), std::sin(2.4 * double(v)), std::cos(1.3 * double(v)))
+                                     .normalized();
+    return mesh;
+  };
+  const TriangleBvh bvh(box);
+  LocalSmoothOptions options;
+  options.shape_sweeps = 0;  // one scaled-Jacobian pass: report.sweeps counts its queue entries
+  options.target_scaled_jacobian = 0.7;  // most hexes of the block are below it
+  HexMesh free_mesh = distorted();
+  const LocalSmoothReport unbounded = smooth_worst_hexes(free_mesh, bvh, options);
+  ASSERT_GT(unbounded.sweeps, 20);
+  ASSERT_GT(measure_hex_quality(distorted()).scaled_jacobian_stats.min, 0.0);
+
+  options.attempt_budget_fraction = 0;
+  options.attempt_budget_hexes = 1;
+  HexMesh mesh = distorted();
+  const LocalSmoothReport bounded = smooth_worst_hexes(mesh, bvh, options);
+  EXPECT_LE(bounded.sweeps, 20);
+  EXPECT_GT(bounded.min_scaled_jacobian_after, bounded.min_scaled_jacobian_before);
+  EXPECT_DOUBLE_EQ(bounded.min_scaled_jacobian_after, measure_hex_quality(mesh).scaled_jacobian_stats.min);
+}
