@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "core/surface_distance.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 
@@ -75,9 +76,16 @@ SurfaceDistance surface_distance(const TriSurface& a, const TriangleBvh& a_bvh, 
 }
 
 double enclosed_volume(const TriSurface& s) {
+  // Tets from the bounding box's centre, not from the origin: a liver placed at 1e6 (scanner
+  // coordinates) summed to -646 for a volume of 1.15 about the origin.
+  Eigen::AlignedBox3d bounds;
+  for (const Vec3& p : s.points) bounds.extend(p);
+  const Vec3 origin = s.points.empty() ? Vec3::Zero() : Vec3(bounds.center());
   double six_volume = 0;
-  for (const auto& t : s.triangles)
-    six_volume += s.points[size_t(t[0])].dot(s.points[size_t(t[1])].cross(s.points[size_t(t[2])]));
+  for (const auto& t : s.triangles) {
+    const Vec3 a = s.points[size_t(t[0])] - origin, b = s.points[size_t(t[1])] - origin, c = s.points[size_t(t[2])] - origin;
+    six_volume += a.dot(b.cross(c));
+  }
   return six_volume / 6.0;
 }
 
