@@ -243,6 +243,27 @@ TetMesh decode(const std::vector<char>& data, size_t n_input_triangles) {
   return mesh;
 }
 
+//! Every face of every tet as (sorted corners, tet, corner opposite), sorted by corners: the
+//! two tets sharing a face are neighbours in the list.
+struct TetFace {
+  std::array<int, 3> key;
+  int tet, opposite;
+  bool operator<(const TetFace& o) const { return key < o.key; }
+};
+std::vector<TetFace> sorted_tet_faces(const TetMesh& mesh) {
+  std::vector<TetFace> faces;
+  faces.reserve(4 * mesh.tets.size());
+  for (size_t t = 0; t < mesh.tets.size(); ++t)
+    for (int f = 0; f < 4; ++f) {
+      const auto& tet = mesh.tets[t];
+      std::array<int, 3> key = {tet[size_t((f + 1) % 4)], tet[size_t((f + 2) % 4)], tet[size_t((f + 3) % 4)]};
+      std::sort(key.begin(), key.end());
+      faces.push_back({key, int(t), tet[size_t(f)]});
+    }
+  std::sort(faces.begin(), faces.end());
+  return faces;
+}
+
 //! TetGen fills every region the facets enclose, a cavity included (it removes only what
 //! lies outside the outermost surface, unless given a hole point, which a cavity of any
 //! shape makes hard to place). So the tets are grouped into regions joined across faces
@@ -251,21 +272,7 @@ TetMesh decode(const std::vector<char>& data, size_t n_input_triangles) {
 //! surface's components does. This needs no orientation of the input, only its facets.
 //! Tets of cavity regions, and the points only they use, are dropped.
 void keep_material_tets(TetMesh& mesh) {
-  struct TetFace {
-    std::array<int, 3> key;
-    int tet;
-    bool operator<(const TetFace& o) const { return key < o.key; }
-  };
-  std::vector<TetFace> faces;
-  faces.reserve(4 * mesh.tets.size());
-  for (size_t t = 0; t < mesh.tets.size(); ++t)
-    for (int f = 0; f < 4; ++f) {
-      const auto& tet = mesh.tets[t];
-      std::array<int, 3> key = {tet[size_t((f + 1) % 4)], tet[size_t((f + 2) % 4)], tet[size_t((f + 3) % 4)]};
-      std::sort(key.begin(), key.end());
-      faces.push_back({key, int(t)});
-    }
-  std::sort(faces.begin(), faces.end());
+  const std::vector<TetFace> faces = sorted_tet_faces(mesh);
   std::vector<std::array<int, 3>> facet_faces = mesh.boundary_faces;
   for (auto& f : facet_faces) std::sort(f.begin(), f.end());
   std::sort(facet_faces.begin(), facet_faces.end());
@@ -354,23 +361,10 @@ void orient(TetMesh& mesh) {
   for (auto& t : mesh.tets)
     if (signed_volume6(t[0], t[1], t[2], t[3]) < 0) std::swap(t[1], t[2]);
 
-  // Each boundary face's tet: (sorted face, opposite vertex) for all tet faces, sorted.
-  struct TetFace {
-    std::array<int, 3> key;
-    int opposite;
-    bool operator<(const TetFace& o) const { return key < o.key; }
-  };
-  std::vector<TetFace> faces;
-  faces.reserve(4 * mesh.tets.size());
-  for (const auto& t : mesh.tets)
-    for (int f = 0; f < 4; ++f) {
-      std::array<int, 3> key = {t[size_t((f + 1) % 4)], t[size_t((f + 2) % 4)], t[size_t((f + 3) % 4)]};
-      std::sort(key.begin(), key.end());
-      faces.push_back({key, t[size_t(f)]});
-    }
-  std::sort(faces.begin(), faces.end());
+  // Each boundary face's tet, and the tet's corner opposite it.
+  const std::vector<TetFace> faces = sorted_tet_faces(mesh);
   for (auto& bf : mesh.boundary_faces) {
-    TetFace probe{bf, -1};
+    TetFace probe{bf, -1, -1};
     std::sort(probe.key.begin(), probe.key.end());
     const auto it = std::lower_bound(faces.begin(), faces.end(), probe);
     if (it == faces.end() || it->key != probe.key)
