@@ -327,16 +327,19 @@ void keep_material_tets(TetMesh& mesh) {
   for (size_t t = 0; t < mesh.tets.size(); ++t)
     if (!is_cavity(t)) kept.push_back(mesh.tets[t]);
   mesh.tets = std::move(kept);
+  // The points keep their order: TetGen lists the surface's own points first, with their
+  // indices, and every one of them still has a material tet (only points inside a cavity go).
   std::vector<int> new_index(mesh.points.size(), -1);
+  for (const auto& tet : mesh.tets)
+    for (int v : tet) new_index[size_t(v)] = 0;
   std::vector<Vec3> points;
-  for (auto& tet : mesh.tets)
-    for (int& v : tet) {
-      if (new_index[size_t(v)] < 0) {
-        new_index[size_t(v)] = int(points.size());
-        points.push_back(mesh.points[size_t(v)]);
-      }
-      v = new_index[size_t(v)];
+  for (size_t v = 0; v < mesh.points.size(); ++v)
+    if (new_index[v] == 0) {
+      new_index[v] = int(points.size());
+      points.push_back(mesh.points[v]);
     }
+  for (auto& tet : mesh.tets)
+    for (int& v : tet) v = new_index[size_t(v)];
   mesh.points = std::move(points);
   // A facet separates a material region from a cavity, so each facet face keeps a tet;
   // one that would not (no closed surface makes one) is dropped with its region.
