@@ -21,26 +21,21 @@ void finish(Features& features, size_t n_vertices) {
     if (features.feature_valence[v] == 1 || features.feature_valence[v] > 2) features.corners.push_back(int(v));
 }
 
-}  // namespace
+Vec3 unit_normal(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 n = (b - a).cross(c - a);
+  const double length = n.norm();
+  return length > 0 ? Vec3(n / length) : Vec3::Zero();
+}
 
-Features detect_features(const TriSurface& surface, double angle_deg) {
-  const double cos_limit = std::cos(angle_deg * M_PI / 180.0);
-  std::vector<Vec3> normals;
-  normals.reserve(surface.triangles.size());
-  for (const auto& t : surface.triangles) {
-    const Vec3 n = (surface.points[size_t(t[1])] - surface.points[size_t(t[0])])
-                       .cross(surface.points[size_t(t[2])] - surface.points[size_t(t[0])]);
-    const double len = n.norm();
-    normals.push_back(len > 0 ? Vec3(n / len) : Vec3::Zero());
-  }
-  // Edge key (a < b) -> up to two incident triangles and a use count.
-  struct EdgeUse {
-    int first = -1, second = -1, count = 0;
-  };
+//! Per edge (a < b): the triangles that use it (the first two) and how many do.
+struct EdgeUse {
+  int first = -1, second = -1, count = 0;
+};
+std::unordered_map<uint64_t, EdgeUse> edge_uses(const std::vector<std::array<int, 3>>& triangles) {
   std::unordered_map<uint64_t, EdgeUse> uses;
-  uses.reserve(surface.triangles.size() * 2);
-  for (size_t f = 0; f < surface.triangles.size(); ++f) {
-    const auto& t = surface.triangles[f];
+  uses.reserve(triangles.size() * 2);
+  for (size_t f = 0; f < triangles.size(); ++f) {
+    const auto& t = triangles[f];
     for (int k = 0; k < 3; ++k) {
       const int a = std::min(t[size_t(k)], t[size_t((k + 1) % 3)]);
       const int b = std::max(t[size_t(k)], t[size_t((k + 1) % 3)]);
@@ -49,9 +44,72 @@ Features detect_features(const TriSurface& surface, double angle_deg) {
       ++use.count;
     }
   }
+  return uses;
+}
+
+uint64_t edge_key(int a, int b) {
+  return (uint64_t(uint32_t(std::min(a, b))) << 32) | uint32_t(std::max(a, b));
+}
+
+std::vector<char> fins_from(const std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& triangles,
+                            const std::vector<Vec3>& normals, const std::unordered_map<uint64_t, EdgeUse>& uses,
+                            double angle_deg) {
+  std::vector<char> fins(triangles.size(), 0);
+  for (size_t f = 0; f < triangles.size(); ++f) {
+    const auto& t = triangles[f];
+    std::array<Vec3, 3> corners, neighbours;
+    for (size_t k = 0; k < 3; ++k) {
+      corners[k] = points[size_t(t[k])];
+      const EdgeUse& use = uses.at(edge_key(t[k], t[(k + 1) % 3]));
+      const int other = use.count != 2 ? -1 : use.first == int(f) ? use.second : use.first;
+      neighbours[k] = other < 0 ? Vec3(-normals[f]) : normals[size_t(other)];
+    }
+    fins[f] = is_fin(corners, normals[f], neighbours, angle_deg);
+  }
+  return fins;
+}
+
+}  // namespace
+
+bool is_fin(const std::array<Vec3, 3>& corners, const Vec3& unit_normal, const std::array<Vec3, 3>& neighbour_normals,
+            double angle_deg) {
+  if (unit_normal.squaredNorm() == 0) return false;
+  const double needle_cos = std::cos(kFinNeedleAngleDeg * M_PI / 180.0);
+  bool needle = false;
+  for (size_t k = 0; k < 3; ++k) {
+    const Vec3 u = corners[(k + 1) % 3] - corners[k], w = corners[(k + 2) % 3] - corners[k];
+    const double lu = u.norm(), lw = w.norm();
+    if (lu > 0 && lw > 0 && u.dot(w) > needle_cos * lu * lw) needle = true;
+  }
+  if (!needle) return false;
+  const double cos_limit = std::cos(angle_deg * M_PI / 180.0);
+  for (const Vec3& n : neighbour_normals)
+    if (n.squaredNorm() > 0 && unit_normal.dot(n) >= cos_limit) return false;
+  return true;
+}
+
+std::vector<char> fin_triangles(const std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& triangles,
+                                double angle_deg) {
+  std::vector<Vec3> normals(triangles.size());
+  for (size_t f = 0; f < triangles.size(); ++f) {
+    const auto& t = triangles[f];
+    normals[f] = unit_normal(points[size_t(t[0])], points[size_t(t[1])], points[size_t(t[2])]);
+  }
+  return fins_from(points, triangles, normals, edge_uses(triangles), angle_deg);
+}
+
+Features detect_features(const TriSurface& surface, double angle_deg) {
+  const double cos_limit = std::cos(angle_deg * M_PI / 180.0);
+  std::vector<Vec3> normals;
+  normals.reserve(surface.triangles.size());
+  for (const auto& t : surface.triangles)
+    normals.push_back(unit_normal(surface.points[size_t(t[0])], surface.points[size_t(t[1])], surface.points[size_t(t[2])]));
+  const std::unordered_map<uint64_t, EdgeUse> uses = edge_uses(surface.triangles);
+  const std::vector<char> fins = fins_from(surface.points, surface.triangles, normals, uses, angle_deg);
   Features features;
   for (const auto& [key, use] : uses) {
-    const bool sharp = use.count != 2 || normals[size_t(use.first)].dot(normals[size_t(use.second)]) < cos_limit;
+    const bool sharp = use.count != 2 || (!fins[size_t(use.first)] && !fins[size_t(use.second)] &&
+                                          normals[size_t(use.first)].dot(normals[size_t(use.second)]) < cos_limit);
     if (sharp) features.edges.push_back({int(key >> 32), int(key & 0xffffffffu)});
   }
   finish(features, surface.points.size());
@@ -64,14 +122,27 @@ std::vector<std::array<int, 2>> feature_edges(const TriSurface& surface, double 
 
 Features mark_features(SurfaceMesh& mesh, double angle_deg) {
   const double cos_limit = std::cos(angle_deg * M_PI / 180.0);
+  auto normal = [&](OpenMesh::FaceHandle f) { return to_eigen(mesh.calc_face_normal(f)); };
+  std::vector<char> fins(mesh.n_faces(), 0);
+  for (auto f : mesh.faces()) {
+    if (mesh.status(f).deleted()) continue;
+    std::array<Vec3, 3> corners, neighbours;
+    size_t k = 0;
+    for (auto h : mesh.fh_range(f)) {
+      corners[k] = to_eigen(mesh.point(mesh.from_vertex_handle(h)));
+      const auto other = mesh.opposite_face_handle(h);
+      neighbours[k++] = other.is_valid() ? normal(other) : Vec3(-normal(f));
+    }
+    fins[size_t(f.idx())] = is_fin(corners, normal(f), neighbours, angle_deg);
+  }
   Features features;
   for (auto e : mesh.edges()) {
     if (mesh.status(e).deleted()) continue;
     bool sharp = mesh.is_boundary(e);
     if (!sharp) {
-      const auto n0 = mesh.calc_face_normal(mesh.face_handle(mesh.halfedge_handle(e, 0)));
-      const auto n1 = mesh.calc_face_normal(mesh.face_handle(mesh.halfedge_handle(e, 1)));
-      sharp = (n0 | n1) < cos_limit;
+      const auto f0 = mesh.face_handle(mesh.halfedge_handle(e, 0)), f1 = mesh.face_handle(mesh.halfedge_handle(e, 1));
+      sharp = !fins[size_t(f0.idx())] && !fins[size_t(f1.idx())] &&
+              (mesh.calc_face_normal(f0) | mesh.calc_face_normal(f1)) < cos_limit;
     }
     mesh.status(e).set_feature(sharp);
     if (sharp) {
@@ -118,9 +189,11 @@ std::vector<Vec3> unit_triangle_normals(const std::vector<Vec3>& points, const s
   std::vector<Vec3> normals(triangles.size());
   for (size_t t = 0; t < triangles.size(); ++t) {
     const auto& f = triangles[t];
-    const Vec3 c = (points[size_t(f[1])] - points[size_t(f[0])]).cross(points[size_t(f[2])] - points[size_t(f[0])]);
-    normals[t] = c.norm() > 0 ? Vec3(c.normalized()) : Vec3::Zero();
+    normals[t] = unit_normal(points[size_t(f[0])], points[size_t(f[1])], points[size_t(f[2])]);
   }
+  const std::vector<char> fins = fins_from(points, triangles, normals, edge_uses(triangles), kDefaultFeatureAngleDeg);
+  for (size_t t = 0; t < triangles.size(); ++t)
+    if (fins[t]) normals[t] = Vec3::Zero();
   return normals;
 }
 
@@ -130,7 +203,7 @@ bool on_surface_crease(const TriangleBvh& surface, const std::vector<Vec3>& norm
   bool crease = false;
   const auto& p = surface.points();
   surface.for_each_in_box(box, [&](int t) {
-    if (crease || normals[size_t(t)].dot(normal) >= min_cos) return;
+    if (crease || normals[size_t(t)].squaredNorm() == 0 || normals[size_t(t)].dot(normal) >= min_cos) return;
     const auto& f = surface.triangles()[size_t(t)];
     if (convex_only && ((p[size_t(f[0])] + p[size_t(f[1])] + p[size_t(f[2])]) / 3 - x).dot(normal) > 0) return;
     const Vec3 c = closest_point_on_triangle(x, p[size_t(f[0])], p[size_t(f[1])], p[size_t(f[2])]);

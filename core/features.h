@@ -26,8 +26,26 @@ struct Features {
   std::vector<int> corners;
 };
 
+//! A needle is a triangle with an angle below this (degrees).
+constexpr double kFinNeedleAngleDeg = 10.0;
+
+//! A fin: a needle whose normal turns by more than `angle_deg` from each of its three edge
+//! neighbours. Segmentation leaves them (skull_hollow has 4, 0.8-5 degrees, turned 63-122
+//! degrees from every neighbour; the armadillo 1), and a needle's normal rests on its tiny
+//! width. Taken as a feature, a fin's tip is a corner the mesh must hold and the 5-degree
+//! angle goes into a boundary quad: a hex there reaches at most sin 5 = 0.09. Fins are
+//! therefore no features, and crease tests ignore them.
+bool is_fin(const std::array<Vec3, 3>& corners, const Vec3& unit_normal, const std::array<Vec3, 3>& neighbour_normals,
+            double angle_deg = kDefaultFeatureAngleDeg);
+
+//! Per triangle of the surface: is it a fin? (Edges with other than two triangles count as
+//! turning: a fin needs three neighbours that all turn away.)
+std::vector<char> fin_triangles(const std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& triangles,
+                                double angle_deg = kDefaultFeatureAngleDeg);
+
 //! Features of a surface. An edge is a feature when the angle between its two triangles'
-//! normals exceeds angle_deg, or when it does not have exactly two triangles (border).
+//! normals exceeds angle_deg, or when it does not have exactly two triangles (border); an
+//! edge of a fin is not.
 Features detect_features(const TriSurface& surface, double angle_deg = kDefaultFeatureAngleDeg);
 
 //! Just the feature edges of detect_features (for projection onto the fine surface).
@@ -40,8 +58,8 @@ std::vector<std::array<int, 2>> feature_edges(const TriSurface& surface, double 
 std::vector<char> nodes_on_feature_edges(const HexMesh& mesh, const TriSurface& coarse,
                                          double angle_deg = kDefaultFeatureAngleDeg);
 
-//! The unit normal of every triangle (zero for a degenerate one): what the crease tests
-//! below take as `normals`.
+//! The unit normal of every triangle (zero for a degenerate one and for a fin): what the
+//! crease tests below take as `normals`; they ignore triangles with a zero normal.
 std::vector<Vec3> unit_triangle_normals(const std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& triangles);
 
 //! True if a triangle of `surface` within `radius` of x faces away from `normal` by more
@@ -59,8 +77,8 @@ CreaseKind crease_at(const TriangleBvh& surface, const std::vector<Vec3>& normal
                      double radius, double min_cos, Vec3& direction);
 
 //! Marks features on an OpenMesh mesh for the Decimater: edge and vertex status feature()
-//! on feature edges and their vertices, and locked() on corners (never removed). Clears
-//! the bits elsewhere. Returns what it marked, indexed like the mesh's vertices.
+//! on feature edges (as detect_features) and their vertices, and locked() on corners (never
+//! removed). Clears the bits elsewhere. Returns what it marked, indexed like the mesh's vertices.
 Features mark_features(SurfaceMesh& mesh, double angle_deg = kDefaultFeatureAngleDeg);
 
 }  // namespace dthex

@@ -42,3 +42,60 @@ TEST(Features, NodesOnTheCoarseSurfacesFeatureEdgesAreFound) {
   const std::vector<char> on = nodes_on_feature_edges(mesh, cube);
   EXPECT_EQ(on, (std::vector<char>{1, 1, 0, 0, 0, 0}));
 }
+
+namespace {
+
+// A flat patch (z = 0) around the triangle A B C, whose apex C is lifted to `apex`: with C
+// just beside AB and lifted a little, A B C is a needle turned away from all three of its
+// neighbours (a fin); lifted far, the same three edges are ordinary sharp creases.
+TriSurface patch_with_apex(const Vec3& apex) {
+  TriSurface s;
+  s.points = {Vec3(0, 0, 0), Vec3(1, 0, 0), apex, Vec3(0.5, 0.5, 0), Vec3(0.5, -0.5, 0)};
+  s.triangles = {{0, 1, 2}, {1, 0, 4}, {2, 1, 3}, {0, 2, 3}};
+  return s;
+}
+
+int features_among_the_first_triangles_edges(const std::vector<std::array<int, 2>>& edges) {
+  int count = 0;
+  for (const std::array<int, 2>& e : {std::array<int, 2>{0, 1}, {1, 2}, {0, 2}})
+    count += std::binary_search(edges.begin(), edges.end(), e);
+  return count;
+}
+
+}  // namespace
+
+// The fin: angle 6.9 degrees at A and B, its normal turned 80-88 degrees from the three
+// neighbours. Its edges are no features (on the input, in the Decimater's marking, and on the
+// coarse surface alike), and the crease tests get a zero normal for it. The same triangle
+// lifted to 50 degrees at A turns as much, and its edges are features.
+TEST(Features, AFinIsNoFeatureAndAnOrdinaryCreaseIs) {
+  const TriSurface fin = patch_with_apex(Vec3(0.5, 0.01, 0.06));
+  const TriSurface crease = patch_with_apex(Vec3(0.5, 0.1, 0.6));
+  EXPECT_EQ(fin_triangles(fin.points, fin.triangles), (std::vector<char>{1, 0, 0, 0}));
+  EXPECT_EQ(fin_triangles(crease.points, crease.triangles), (std::vector<char>{0, 0, 0, 0}));
+
+  EXPECT_EQ(features_among_the_first_triangles_edges(feature_edges(fin)), 0);
+  EXPECT_EQ(features_among_the_first_triangles_edges(feature_edges(crease)), 3);
+
+  SurfaceMesh fin_mesh = to_openmesh(fin), crease_mesh = to_openmesh(crease);
+  EXPECT_EQ(features_among_the_first_triangles_edges(mark_features(fin_mesh).edges), 0);
+  EXPECT_EQ(features_among_the_first_triangles_edges(mark_features(crease_mesh).edges), 3);
+
+  const std::vector<Vec3> fin_normals = unit_triangle_normals(fin.points, fin.triangles);
+  EXPECT_EQ(fin_normals[0], Vec3::Zero());
+  EXPECT_NEAR(fin_normals[1].norm(), 1.0, 1e-12);
+  EXPECT_NEAR(unit_triangle_normals(crease.points, crease.triangles)[0].norm(), 1.0, 1e-12);
+}
+
+// A crease test near the fin's tip: without the fin the patch there is flat, so no crease;
+// with its normal counted (as before fins were recognised) the tip would be a crease.
+TEST(Features, CreaseTestsIgnoreAFin) {
+  const TriSurface fin = patch_with_apex(Vec3(0.5, 0.01, 0.06));
+  const TriangleBvh bvh(fin);
+  const std::vector<Vec3> normals = unit_triangle_normals(fin.points, fin.triangles);
+  const Vec3 beside_the_tip(0.5, -0.05, 0), up(0, 0, 1);
+  EXPECT_FALSE(on_surface_crease(bvh, normals, beside_the_tip, up, 0.2, std::cos(M_PI / 3), false));
+  std::vector<Vec3> counted = normals;
+  counted[0] = (fin.points[1] - fin.points[0]).cross(fin.points[2] - fin.points[0]).normalized();
+  EXPECT_TRUE(on_surface_crease(bvh, counted, beside_the_tip, up, 0.2, std::cos(M_PI / 3), false));
+}
