@@ -212,8 +212,49 @@ bool on_surface_crease(const TriangleBvh& surface, const std::vector<Vec3>& norm
   return crease;
 }
 
+bool has_knife_edge(const std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& triangles,
+                    double knife_angle_deg) {
+  const double knife_cos = -std::cos(knife_angle_deg * M_PI / 180.0);
+  const std::vector<Vec3> normals = unit_triangle_normals(points, triangles);
+  for (const auto& [key, use] : edge_uses(triangles))
+    if (use.count == 2 && normals[size_t(use.first)].dot(normals[size_t(use.second)]) < knife_cos) return true;
+  return false;
+}
+
+bool near_knife_edge(const TriangleBvh& surface, const std::vector<Vec3>& normals, const Vec3& x, double radius,
+                     double knife_angle_deg) {
+  const double knife_cos = -std::cos(knife_angle_deg * M_PI / 180.0);
+  const Eigen::AlignedBox3d box(x - Vec3::Constant(radius), x + Vec3::Constant(radius));
+  std::vector<int> near;
+  bool knife = false;
+  const auto& p = surface.points();
+  const auto& triangles = surface.triangles();
+  surface.for_each_in_box(box, [&](int t) {
+    const Vec3& n = normals[size_t(t)];
+    if (knife || n.squaredNorm() == 0) return;
+    const auto& f = triangles[size_t(t)];
+    if ((closest_point_on_triangle(x, p[size_t(f[0])], p[size_t(f[1])], p[size_t(f[2])]) - x).squaredNorm() >
+        radius * radius)
+      return;
+    for (int u : near) {
+      if (normals[size_t(u)].dot(n) >= knife_cos) continue;
+      // The edge the two share, if they are neighbours: x must be within radius of it.
+      std::array<int, 2> shared{};
+      int count = 0;
+      for (int a : triangles[size_t(u)])
+        if (a == f[0] || a == f[1] || a == f[2]) shared[size_t(std::min(count++, 1))] = a;
+      if (count != 2) continue;
+      const Vec3 a = p[size_t(shared[0])], d = p[size_t(shared[1])] - a;
+      const double s = std::clamp((x - a).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+      if ((a + s * d - x).squaredNorm() <= radius * radius) knife = true;
+    }
+    near.push_back(t);
+  });
+  return knife;
+}
+
 CreaseKind crease_at(const TriangleBvh& surface, const std::vector<Vec3>& normals, const Vec3& x, const Vec3& normal,
-                     double radius, double min_cos, Vec3& direction) {
+                     double radius, double min_cos, Vec3& direction, double* faces_cos) {
   const Eigen::AlignedBox3d box(x - Vec3::Constant(radius), x + Vec3::Constant(radius));
   std::vector<Vec3> faces;
   bool concave = false;
@@ -235,6 +276,7 @@ CreaseKind crease_at(const TriangleBvh& surface, const std::vector<Vec3>& normal
   const Vec3 line = faces[0].cross(faces[1]);
   if (!(line.norm() > 0)) return CreaseKind::corner;
   direction = line.normalized();
+  if (faces_cos) *faces_cos = faces[0].dot(faces[1]);
   return concave ? CreaseKind::concave_line : CreaseKind::convex_line;
 }
 

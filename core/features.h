@@ -73,8 +73,23 @@ bool on_surface_crease(const TriangleBvh& surface, const std::vector<Vec3>& norm
 //! by `min_cos`: one face (none), two faces meeting on a line, convex or concave as seen from
 //! `normal` (the line's unit direction into `direction`), or three and more (a corner).
 enum class CreaseKind { none, convex_line, concave_line, corner };
+//! With `faces_cos`, a line's two face normals' dot product goes there (-1: a knife edge).
 CreaseKind crease_at(const TriangleBvh& surface, const std::vector<Vec3>& normals, const Vec3& x, const Vec3& normal,
-                     double radius, double min_cos, Vec3& direction);
+                     double radius, double min_cos, Vec3& direction, double* faces_cos = nullptr);
+
+//! A knife edge: a convex crease whose two faces meet at less than this inside (degrees).
+//! skull_hollow's cut plane meets its outer surface at 15-17 degrees.
+constexpr double kKnifeEdgeAngleDeg = 30.0;
+
+//! Does the surface have a knife edge (two neighbouring triangles, no fins, whose normals
+//! turn by more than 180 - knife_angle_deg degrees)?
+bool has_knife_edge(const std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& triangles,
+                    double knife_angle_deg = kKnifeEdgeAngleDeg);
+
+//! True if x is within `radius` of a knife edge: an edge of `surface` whose two triangles'
+//! normals (unit, zero ones ignored) turn by more than 180 - knife_angle_deg degrees.
+bool near_knife_edge(const TriangleBvh& surface, const std::vector<Vec3>& normals, const Vec3& x, double radius,
+                     double knife_angle_deg = kKnifeEdgeAngleDeg);
 
 //! Marks features on an OpenMesh mesh for the Decimater: edge and vertex status feature()
 //! on feature edges (as detect_features) and their vertices, and locked() on corners (never

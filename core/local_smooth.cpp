@@ -43,6 +43,16 @@ class NodeSmoother {
     }
     surface_normals_ = unit_triangle_normals(surface.points(), surface.triangles());
     min_normal_cos_ = std::cos(options_.max_normal_turn_deg * M_PI / 180.0);
+    // The knife-edge zone, only where the surface has a knife edge: the nodes that start in
+    // it (they stay in it), and the zone's width.
+    near_knife_.assign(n, 0);
+    if (options_.knife_edge_slide > 0 && has_knife_edge(surface.points(), surface.triangles())) {
+      knife_zone_ = options_.knife_edge_slide * surface.bounds().diagonal().norm();
+#pragma omp parallel for schedule(dynamic, 256)
+      for (long v = 0; v < long(n); ++v)
+        if (is_boundary_[size_t(v)])
+          near_knife_[size_t(v)] = near_knife_edge(surface_, surface_normals_, mesh.nodes[size_t(v)], knife_zone_);
+    }
   }
 
   LocalSmoothReport run() {
@@ -275,8 +285,18 @@ class NodeSmoother {
     if (cp.triangle < 0) return false;
     if (std::sqrt(cp.distance_sq) > d.norm()) return false;
     if (surface_normals_[size_t(cp.triangle)].dot(normal) < min_normal_cos_) return false;
+    if (near_knife_[size_t(v)] && !near_knife_edge(surface_, surface_normals_, cp.point, knife_zone_)) return false;
     out = cp.point;
     return true;
+  }
+
+  //! On a knife edge's line (not at a corner where it meets another crease).
+  bool on_knife_edge(const Vec3& x, const Vec3& normal, double radius) const {
+    Vec3 line;
+    double faces_cos = 1;
+    return crease_at(surface_, surface_normals_, x, normal, radius, min_normal_cos_, line, &faces_cos) ==
+               CreaseKind::convex_line &&
+           faces_cos < -std::cos(kKnifeEdgeAngleDeg * M_PI / 180.0);
   }
 
   // The mean of v's edge neighbours (each counted once per hex that holds the edge): the
@@ -337,7 +357,9 @@ class NodeSmoother {
       // one stays only on a convex crease (projection piles nodes of both neighbouring
       // facets onto a convex edge, and they trace it; on a concave one they are a mistake).
       const bool held = !options_.feature_nodes || (*options_.feature_nodes)[size_t(v)];
-      if (on_surface_crease(surface_, surface_normals_, x, normal, 1e-6 * scale, min_normal_cos_, !held)) return false;
+      if (on_surface_crease(surface_, surface_normals_, x, normal, 1e-6 * scale, min_normal_cos_, !held) &&
+          !(near_knife_[size_t(v)] && on_knife_edge(x, normal, 1e-6 * scale)))
+        return false;
     }
     auto tangential = [&](Vec3 d) { return is_boundary_[size_t(v)] ? Vec3(d - d.dot(normal) * normal) : d; };
 
@@ -435,6 +457,8 @@ class NodeSmoother {
   std::vector<double> sj_, shape_;
   std::vector<Vec3> surface_normals_;
   double min_normal_cos_ = 0;
+  std::vector<char> near_knife_;  //!< per node: started within knife_zone_ of a knife edge
+  double knife_zone_ = 0;
   Clock::time_point deadline_;
   Scratch scratch_;  //!< for the serial passes
 };

@@ -379,6 +379,7 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
       LocalSmoothOptions smooth_options;
       smooth_options.time_limit_seconds = options.time_limit_seconds;
       smooth_options.feature_nodes = &feature_nodes;
+      smooth_options.knife_edge_slide = options.knife_edge_slide;
       const LocalSmoothReport report = smooth_worst_hexes(result.hexes, input_bvh, smooth_options);
       smoothed_min = report.min_scaled_jacobian_after;
       std::ostringstream out;
@@ -388,6 +389,7 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
     });
     RepairWorstHexesOptions repair_options;
     repair_options.feature_nodes = &feature_nodes;
+    repair_options.knife_edge_slide = options.knife_edge_slide;
     repair_options.time_limit_seconds = options.time_limit_seconds;
     // Hexes left below the threshold make this mesh poor. If thin walls are then the likely
     // cause, run_pipeline meshes again sized by thickness whatever the repair reaches, so the

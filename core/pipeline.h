@@ -33,6 +33,10 @@ struct PipelineOptions {
   //! Hexes the local smoother leaves below scaled Jacobian 0.2 get a region repair
   //! (repair_worst_hexes.h); off only to measure what it brings.
   bool repair_worst_hexes = true;
+  //! How far (a fraction of the input's bounding-box diagonal) the nodes of a knife edge (a
+  //! convex crease under 30 degrees) may slide off it; 0 keeps knife edges sharp. See
+  //! LocalSmoothOptions::knife_edge_slide.
+  double knife_edge_slide = 0.005;
   std::string tetgen_switches = "pq1.2Y";
   double time_limit_seconds = 600;  //!< bound for TetGen and the optimizer each
   bool global_smoothing = false;    //!< smooth the coarse surface globally (the paper's comparison)

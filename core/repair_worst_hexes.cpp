@@ -65,16 +65,28 @@ RepairWorstHexesReport repair_worst_hexes(HexMesh& mesh, const TriangleBvh& surf
   const std::vector<Vec3> normals = unit_triangle_normals(surface.points(), surface.triangles());
   const double min_cos = std::cos(options.max_normal_turn_deg * M_PI / 180.0);
   const double radius = 1e-7 * surface.bounds().diagonal().norm();
+  // Knife edges (see LocalSmoothOptions::knife_edge_slide): their lines' nodes slide, and a
+  // node that starts a round within the zone lands in it.
+  const bool knives = options.knife_edge_slide > 0 && has_knife_edge(surface.points(), surface.triangles());
+  const double knife_zone = options.knife_edge_slide * surface.bounds().diagonal().norm();
+  const double knife_cos = -std::cos(kKnifeEdgeAngleDeg * M_PI / 180.0);
+  if (knives)
+    region.may_land = [&](size_t, const Vec3& from, const Vec3& to) {
+      return !near_knife_edge(surface, normals, from, knife_zone) || near_knife_edge(surface, normals, to, knife_zone);
+    };
   region.held = [&](size_t v, const Vec3& at) {
     const TriangleBvh::ClosestPoint cp = surface.closest_point(at);
     if (cp.triangle < 0 || normals[size_t(cp.triangle)].squaredNorm() == 0) return true;
     Vec3 line;
-    switch (crease_at(surface, normals, at, normals[size_t(cp.triangle)], radius, min_cos, line)) {
+    double faces_cos = 1;
+    switch (crease_at(surface, normals, at, normals[size_t(cp.triangle)], radius, min_cos, line, &faces_cos)) {
       case CreaseKind::none:
         return false;
       case CreaseKind::concave_line:  // projection may have put it there by mistake
         return options.feature_nodes && v < options.feature_nodes->size() && (*options.feature_nodes)[v];
       case CreaseKind::convex_line:
+        if (knives && faces_cos < knife_cos) return false;
+        break;
       case CreaseKind::corner:
         break;
     }
@@ -84,6 +96,7 @@ RepairWorstHexesReport repair_worst_hexes(HexMesh& mesh, const TriangleBvh& surf
   raise.target_scaled_jacobian = options.target_scaled_jacobian;
   raise.shape_sweeps = options.shape_sweeps;
   raise.feature_nodes = options.feature_nodes;
+  raise.knife_edge_slide = options.knife_edge_slide;
   auto seconds_left = [&] {
     return std::max(0.0, options.time_limit_seconds -
                              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());

@@ -13,6 +13,7 @@
 #pragma once
 
 #include "core/features.h"
+#include "core/local_smooth.h"
 #include "core/triangle_bvh.h"
 #include "core/types.h"
 
@@ -51,6 +52,9 @@ struct RepairWorstHexesOptions {
   //! `max_normal_turn_deg` (the smoother's feature angle).
   const std::vector<char>* feature_nodes = nullptr;
   double max_normal_turn_deg = kDefaultFeatureAngleDeg;
+  //! As LocalSmoothOptions::knife_edge_slide, for the region solve's slides too (the nodes
+  //! of a knife edge's line are not held).
+  double knife_edge_slide = LocalSmoothOptions().knife_edge_slide;
   double time_limit_seconds = 120.0;
 };
 

@@ -535,7 +535,8 @@ class Untangler {
       double moved = (mesh_.nodes[v] - base_[v]).norm();
       if (moved > cap) mesh_.nodes[v] = base_[v] + (cap / moved) * (mesh_.nodes[v] - base_[v]), moved = cap;
       const TriangleBvh::ClosestPoint cp = bvh_.closest_point(mesh_.nodes[v]);
-      if (cp.triangle >= 0 && std::sqrt(cp.distance_sq) <= moved + 1e-9 * node_scale_[v])
+      if (cp.triangle >= 0 && std::sqrt(cp.distance_sq) <= moved + 1e-9 * node_scale_[v] &&
+          (!options_.may_land || options_.may_land(v, base_[v], cp.point)))
         mesh_.nodes[v] = cp.point;
       else
         mesh_.nodes[v] = base_[v];

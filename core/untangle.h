@@ -50,6 +50,9 @@ struct UntangleOptions {
   //! (e.g. on a crease of the surface, which a slide in the tangent plane would round off;
   //! a node that slid onto one stops there). Called concurrently: must not write.
   std::function<bool(size_t node, const Vec3& at)> held;
+  //! Optional: whether a sliding node that stood at `from` when the round began may land at
+  //! `to`; refused, it goes back. Called concurrently: must not write.
+  std::function<bool(size_t node, const Vec3& from, const Vec3& to)> may_land;
   //! Rounds of the first, interior-only repair when the boundary may slide afterwards.
   //! Fewer rounds save time where the fixed boundary cannot undo an inversion (6 took a
   //! sixth off the spot's untangling) but leave more to the sliding repair, which cost

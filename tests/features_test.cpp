@@ -99,3 +99,35 @@ TEST(Features, CreaseTestsIgnoreAFin) {
   counted[0] = (fin.points[1] - fin.points[0]).cross(fin.points[2] - fin.points[0]).normalized();
   EXPECT_TRUE(on_surface_crease(bvh, counted, beside_the_tip, up, 0.2, std::cos(M_PI / 3), false));
 }
+
+namespace {
+
+// A prism whose cross-section is a 16-degree wedge (apex on the z axis, 1 long), each face
+// split in two: its apex edge is a knife edge, the others are not.
+TriSurface wedge_prism(double degrees) {
+  const double t = std::tan(degrees / 2 * M_PI / 180);
+  TriSurface s;
+  s.points = {Vec3(0, 0, 0), Vec3(1, t, 0), Vec3(1, -t, 0), Vec3(0, 0, 1), Vec3(1, t, 1), Vec3(1, -t, 1)};
+  s.triangles = {{0, 2, 1}, {3, 4, 5}, {0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}, {2, 0, 3}, {2, 3, 5}};
+  return s;
+}
+
+}  // namespace
+
+// The knife-edge zone is the distance to the knife edge, not to its other face: on a
+// 16-degree wedge a point of one face 0.1 from the edge is only 0.028 from the other face.
+TEST(Features, KnifeEdgeZoneIsTheDistanceToTheEdge) {
+  const TriSurface wedge = wedge_prism(16);
+  EXPECT_TRUE(has_knife_edge(wedge.points, wedge.triangles));
+  EXPECT_FALSE(has_knife_edge(wedge_prism(40).points, wedge_prism(40).triangles));
+  EXPECT_FALSE(has_knife_edge(box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), 2).points,
+                              box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), 2).triangles));
+  const TriangleBvh bvh(wedge);
+  const std::vector<Vec3> normals = unit_triangle_normals(wedge.points, wedge.triangles);
+  const Vec3 along_face = (wedge.points[1] - wedge.points[0]).normalized();
+  const Vec3 edge_point(0, 0, 0.5);
+  EXPECT_TRUE(near_knife_edge(bvh, normals, edge_point + 0.04 * along_face, 0.05));
+  EXPECT_FALSE(near_knife_edge(bvh, normals, edge_point + 0.1 * along_face, 0.05));
+  // The square ends meet the faces at 82 and 90 degrees: far from the knife, no knife.
+  EXPECT_FALSE(near_knife_edge(bvh, normals, Vec3(1, 0, 0.5), 0.05));
+}

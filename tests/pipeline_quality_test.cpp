@@ -109,3 +109,77 @@ TEST(PipelineQuality, HollowSphereLeavesItsCavityEmpty) {
   // No node in the cavity: every one at radius 0.5 or more (less the facets' sagitta).
   for (const Vec3& p : r.hexes.nodes) ASSERT_GT(p.norm(), 0.49);
 }
+
+namespace {
+
+// A lens of diameter 2 whose two spherical faces meet at its rim at `rim_degrees` (an ear
+// drum, a cut bone's grazing edge): a knife edge all round. `rings` rings of `per_ring`
+// vertices on each face, the rim shared.
+TriSurface lens(double rim_degrees, int per_ring, int rings) {
+  const double half = rim_degrees / 2 * M_PI / 180, radius = 1 / std::sin(half), drop = radius * std::cos(half);
+  TriSurface s;
+  for (int i = 0; i < per_ring; ++i) {
+    const double a = 2 * M_PI * i / per_ring;
+    s.points.emplace_back(std::cos(a), std::sin(a), 0);
+  }
+  for (double side : {1.0, -1.0}) {
+    std::vector<int> outer(static_cast<size_t>(per_ring));
+    for (int i = 0; i < per_ring; ++i) outer[size_t(i)] = i;
+    for (int k = rings - 1; k >= 0; --k) {
+      const double r = double(k) / rings, z = side * (std::sqrt(radius * radius - r * r) - drop);
+      std::vector<int> inner;
+      if (k == 0) {
+        inner.assign(size_t(per_ring), int(s.points.size()));
+        s.points.emplace_back(0, 0, z);
+      } else {
+        for (int i = 0; i < per_ring; ++i) {
+          const double a = 2 * M_PI * (i + 0.5 * ((rings - k) % 2)) / per_ring;
+          inner.push_back(int(s.points.size()));
+          s.points.emplace_back(r * std::cos(a), r * std::sin(a), z);
+        }
+      }
+      for (int i = 0; i < per_ring; ++i) {
+        const int j = (i + 1) % per_ring;
+        // Outward: counter-clockwise seen from above on the top face, clockwise below.
+        auto add = [&](int a, int b, int c) {
+          if (side > 0) s.triangles.push_back({a, b, c});
+          else s.triangles.push_back({a, c, b});
+        };
+        const bool shifted = (rings - k) % 2 == 1;
+        if (k == 0) {
+          add(outer[size_t(i)], outer[size_t(j)], inner[0]);
+        } else if (shifted) {
+          add(outer[size_t(i)], outer[size_t(j)], inner[size_t(i)]);
+          add(outer[size_t(j)], inner[size_t(j)], inner[size_t(i)]);
+        } else {
+          add(outer[size_t(i)], inner[size_t(j)], inner[size_t(i)]);
+          add(outer[size_t(i)], outer[size_t(j)], inner[size_t(j)]);
+        }
+      }
+      outer = inner;
+    }
+  }
+  return s;
+}
+
+}  // namespace
+
+// The lens's rim is a 24-degree knife edge. Held there, its nodes leave THex corners in the
+// wedge no smoother can open; free to slide off it by half a percent of the diagonal, the
+// worst hexes rise, and the rim is rounded off by no more than that.
+TEST(PipelineQuality, KnifeEdgeNodesSlideABoundedWay) {
+  const std::string path = (dthex_test::fresh_dir("lens") / "lens.off").string();
+  write_surface(lens(24, 32, 4), path);
+  PipelineOptions options;
+  options.thickness_ratio = 1;
+  options.repair_worst_hexes = false;  // the smoother alone: seconds, not half a minute
+  Progress quiet;
+  options.knife_edge_slide = 0;
+  const PipelineResult held = run_pipeline(path, options, quiet);
+  options.knife_edge_slide = 0.005;
+  const PipelineResult slid = run_pipeline(path, options, quiet);
+  EXPECT_EQ(slid.quality.inverted, 0u);
+  EXPECT_TRUE(slid.conforming);
+  EXPECT_GE(slid.quality.scaled_jacobian_stats.min, held.quality.scaled_jacobian_stats.min + 0.02);
+  EXPECT_LE(slid.hausdorff, held.hausdorff + 0.005 * slid.input_summary.bbox_diagonal);
+}
