@@ -108,12 +108,15 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
   j["options"] = {{"eps", r.eps},
                   {"target_nodes", o.target_nodes},
                   {"dice", o.dice},
+                  {"h_min", o.h_min},
                   {"h_max", o.h_max},
+                  {"max_edge_ratio", o.max_edge_ratio},
                   {"thickness_ratio", o.thickness_ratio},
                   {"thickness_retry", o.thickness_retry},
                   {"thex_only", o.thex_only},
                   {"project", o.project},
                   {"strict", o.strict},
+                  {"knife_edge_slide", o.knife_edge_slide},
                   {"tetgen", o.tetgen_switches},
                   {"time_limit_seconds", o.time_limit_seconds}};
   if (!o.thex_only) {

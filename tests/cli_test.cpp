@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "core/pipeline.h"
 #include "subprocess_util.h"
 
 #include <cstdlib>
@@ -184,6 +185,30 @@ TEST(Cli, TargetNodesLandWithinTenPercent) {
   EXPECT_NE(low.err.find("--target-nodes"), std::string::npos) << low.err;
   EXPECT_NE(low.err.find("at least"), std::string::npos) << low.err;
   EXPECT_FALSE(fs::exists(dir / "low.vtu"));
+}
+
+// What om_dthex runs with no option is what the library's PipelineOptions hold, to the last
+// bit: the benchmark and the tests use the library's. The CLI's default for --max-edge-ratio
+// was sqrt 2 rounded to 1.41421, and the armadillo meshed to 1,672,687 nodes from the command
+// against 1,669,653 through the API.
+TEST(Cli, DefaultsAreTheLibrarysToTheLastBit) {
+  const fs::path dir = scratch("defaults");
+  const fs::path json = dir / "r.json";
+  const CommandRun r = om_dthex(mesh("icosahedron.off") + " -q -o " + (dir / "o.vtu").string() + " --report " + json.string(), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json options = nlohmann::json::parse(read_bytes(json))["options"];
+  const dthex::PipelineOptions defaults;
+  EXPECT_EQ(options["eps"].get<double>(), defaults.eps);
+  EXPECT_EQ(options["dice"].get<int>(), defaults.dice);
+  EXPECT_EQ(options["h_min"].get<double>(), defaults.h_min);
+  EXPECT_EQ(options["h_max"].get<double>(), defaults.h_max);
+  EXPECT_EQ(options["max_edge_ratio"].get<double>(), defaults.max_edge_ratio);
+  EXPECT_EQ(options["max_edge_ratio"].get<double>(), std::sqrt(2.0));
+  EXPECT_EQ(options["knife_edge_slide"].get<double>(), defaults.knife_edge_slide);
+  EXPECT_EQ(options["thickness_ratio"].get<double>(), defaults.thickness_ratio);
+  EXPECT_EQ(options["thickness_retry"].get<bool>(), defaults.thickness_retry);
+  EXPECT_EQ(options["time_limit_seconds"].get<double>(), defaults.time_limit_seconds);
+  EXPECT_EQ(options["tetgen"].get<std::string>(), defaults.tetgen_switches);
 }
 
 TEST(Cli, HtmlReportWithTheThexBaseline) {

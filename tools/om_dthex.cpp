@@ -190,8 +190,14 @@ int main(int argc, char** argv) {
           "auto|NUMBER>=0"));
   app.add_option("--max-edge-ratio", cl.pipeline.max_edge_ratio,
                  "a collapse is refused if it makes an edge longer than this times the local size (normalized length)")
-      ->default_val(std::sqrt(2.0))
+      ->capture_default_str()  // sqrt 2 exactly: default_val would round it to the 6 digits it prints
       ->check(CLI::Range(1.0, 4.0));
+  app.add_option("--knife-edge-slide", cl.pipeline.knife_edge_slide,
+                 "how far the nodes of a knife edge (a convex edge of the surface under 30 degrees, e.g. where a cut\n"
+                 "plane meets a bone at a grazing angle) may slide off it, as a fraction of the bounding-box diagonal:\n"
+                 "the hexes in such a wedge are thin, and rounding it off a little lifts them. 0 keeps knife edges sharp")
+      ->default_val(0.005)
+      ->check(CLI::Range(0.0, 0.05));
   app.add_option("--target-nodes", cl.pipeline.target_nodes,
                  "choose eps so the hex mesh has about N nodes (within 10%); overrides --eps")
       ->check(CLI::PositiveNumber);
