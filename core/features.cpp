@@ -47,24 +47,66 @@ std::unordered_map<uint64_t, EdgeUse> edge_uses(const std::vector<std::array<int
   return uses;
 }
 
-uint64_t edge_key(int a, int b) {
-  return (uint64_t(uint32_t(std::min(a, b))) << 32) | uint32_t(std::max(a, b));
+//! Per triangle, the triangle across each of its edges (edge k joins corners k and k + 1); -1
+//! on a border or a non-manifold edge. Through each vertex's triangles: no hash map, which
+//! took a second on a million triangles.
+std::vector<std::array<int, 3>> triangle_neighbours(const std::vector<std::array<int, 3>>& triangles) {
+  int n_points = 0;
+  for (const auto& t : triangles) n_points = std::max({n_points, t[0] + 1, t[1] + 1, t[2] + 1});
+  std::vector<int> start(size_t(n_points) + 1, 0), incident(3 * triangles.size());
+  for (const auto& t : triangles)
+    for (int v : t) ++start[size_t(v) + 1];
+  for (size_t v = 0; v < size_t(n_points); ++v) start[v + 1] += start[v];
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (size_t f = 0; f < triangles.size(); ++f)
+    for (int v : triangles[f]) incident[size_t(fill[size_t(v)]++)] = int(f);
+  std::vector<std::array<int, 3>> neighbours(triangles.size(), {-1, -1, -1});
+  for (size_t f = 0; f < triangles.size(); ++f)
+    for (size_t k = 0; k < 3; ++k) {
+      const int a = triangles[f][k], b = triangles[f][(k + 1) % 3];
+      int found = -1, count = 0;
+      for (int i = start[size_t(a)]; i < start[size_t(a) + 1]; ++i) {
+        const int g = incident[size_t(i)];
+        const auto& u = triangles[size_t(g)];
+        if (g != int(f) && (u[0] == b || u[1] == b || u[2] == b)) found = g, ++count;
+      }
+      neighbours[f][k] = count == 1 ? found : -1;
+    }
+  return neighbours;
 }
 
+bool is_needle(const Vec3& a, const Vec3& b, const Vec3& c) {
+  static const double needle_cos = std::cos(kFinNeedleAngleDeg * M_PI / 180.0);
+  const std::array<Vec3, 3> corners = {a, b, c};
+  for (size_t k = 0; k < 3; ++k) {
+    const Vec3 u = corners[(k + 1) % 3] - corners[k], w = corners[(k + 2) % 3] - corners[k];
+    const double lu = u.norm(), lw = w.norm();
+    if (lu > 0 && lw > 0 && u.dot(w) > needle_cos * lu * lw) return true;
+  }
+  return false;
+}
+
+//! The fins among the triangles, given their unit normals; the neighbours are looked up only
+//! when there is a needle at all.
 std::vector<char> fins_from(const std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& triangles,
-                            const std::vector<Vec3>& normals, const std::unordered_map<uint64_t, EdgeUse>& uses,
-                            double angle_deg) {
+                            const std::vector<Vec3>& normals, double angle_deg) {
   std::vector<char> fins(triangles.size(), 0);
+  std::vector<size_t> needles;
   for (size_t f = 0; f < triangles.size(); ++f) {
     const auto& t = triangles[f];
-    std::array<Vec3, 3> corners, neighbours;
+    if (is_needle(points[size_t(t[0])], points[size_t(t[1])], points[size_t(t[2])])) needles.push_back(f);
+  }
+  if (needles.empty()) return fins;
+  const std::vector<std::array<int, 3>> neighbours = triangle_neighbours(triangles);
+  for (size_t f : needles) {
+    const auto& t = triangles[f];
+    std::array<Vec3, 3> corners, around;
     for (size_t k = 0; k < 3; ++k) {
       corners[k] = points[size_t(t[k])];
-      const EdgeUse& use = uses.at(edge_key(t[k], t[(k + 1) % 3]));
-      const int other = use.count != 2 ? -1 : use.first == int(f) ? use.second : use.first;
-      neighbours[k] = other < 0 ? Vec3(-normals[f]) : normals[size_t(other)];
+      const int other = neighbours[f][k];
+      around[k] = other < 0 ? Vec3(-normals[f]) : normals[size_t(other)];
     }
-    fins[f] = is_fin(corners, normals[f], neighbours, angle_deg);
+    fins[f] = is_fin(corners, normals[f], around, angle_deg);
   }
   return fins;
 }
@@ -73,15 +115,7 @@ std::vector<char> fins_from(const std::vector<Vec3>& points, const std::vector<s
 
 bool is_fin(const std::array<Vec3, 3>& corners, const Vec3& unit_normal, const std::array<Vec3, 3>& neighbour_normals,
             double angle_deg) {
-  if (unit_normal.squaredNorm() == 0) return false;
-  const double needle_cos = std::cos(kFinNeedleAngleDeg * M_PI / 180.0);
-  bool needle = false;
-  for (size_t k = 0; k < 3; ++k) {
-    const Vec3 u = corners[(k + 1) % 3] - corners[k], w = corners[(k + 2) % 3] - corners[k];
-    const double lu = u.norm(), lw = w.norm();
-    if (lu > 0 && lw > 0 && u.dot(w) > needle_cos * lu * lw) needle = true;
-  }
-  if (!needle) return false;
+  if (unit_normal.squaredNorm() == 0 || !is_needle(corners[0], corners[1], corners[2])) return false;
   const double cos_limit = std::cos(angle_deg * M_PI / 180.0);
   for (const Vec3& n : neighbour_normals)
     if (n.squaredNorm() > 0 && unit_normal.dot(n) >= cos_limit) return false;
@@ -95,7 +129,7 @@ std::vector<char> fin_triangles(const std::vector<Vec3>& points, const std::vect
     const auto& t = triangles[f];
     normals[f] = unit_normal(points[size_t(t[0])], points[size_t(t[1])], points[size_t(t[2])]);
   }
-  return fins_from(points, triangles, normals, edge_uses(triangles), angle_deg);
+  return fins_from(points, triangles, normals, angle_deg);
 }
 
 Features detect_features(const TriSurface& surface, double angle_deg) {
@@ -105,7 +139,7 @@ Features detect_features(const TriSurface& surface, double angle_deg) {
   for (const auto& t : surface.triangles)
     normals.push_back(unit_normal(surface.points[size_t(t[0])], surface.points[size_t(t[1])], surface.points[size_t(t[2])]));
   const std::unordered_map<uint64_t, EdgeUse> uses = edge_uses(surface.triangles);
-  const std::vector<char> fins = fins_from(surface.points, surface.triangles, normals, uses, angle_deg);
+  const std::vector<char> fins = fins_from(surface.points, surface.triangles, normals, angle_deg);
   Features features;
   for (const auto& [key, use] : uses) {
     const bool sharp = use.count != 2 || (!fins[size_t(use.first)] && !fins[size_t(use.second)] &&
@@ -191,7 +225,7 @@ std::vector<Vec3> unit_triangle_normals(const std::vector<Vec3>& points, const s
     const auto& f = triangles[t];
     normals[t] = unit_normal(points[size_t(f[0])], points[size_t(f[1])], points[size_t(f[2])]);
   }
-  const std::vector<char> fins = fins_from(points, triangles, normals, edge_uses(triangles), kDefaultFeatureAngleDeg);
+  const std::vector<char> fins = fins_from(points, triangles, normals, kDefaultFeatureAngleDeg);
   for (size_t t = 0; t < triangles.size(); ++t)
     if (fins[t]) normals[t] = Vec3::Zero();
   return normals;
@@ -212,12 +246,13 @@ bool on_surface_crease(const TriangleBvh& surface, const std::vector<Vec3>& norm
   return crease;
 }
 
-bool has_knife_edge(const std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& triangles,
+bool has_knife_edge(const std::vector<std::array<int, 3>>& triangles, const std::vector<Vec3>& normals,
                     double knife_angle_deg) {
   const double knife_cos = -std::cos(knife_angle_deg * M_PI / 180.0);
-  const std::vector<Vec3> normals = unit_triangle_normals(points, triangles);
-  for (const auto& [key, use] : edge_uses(triangles))
-    if (use.count == 2 && normals[size_t(use.first)].dot(normals[size_t(use.second)]) < knife_cos) return true;
+  const std::vector<std::array<int, 3>> neighbours = triangle_neighbours(triangles);
+  for (size_t f = 0; f < triangles.size(); ++f)
+    for (int g : neighbours[f])
+      if (g > int(f) && normals[f].dot(normals[size_t(g)]) < knife_cos) return true;
   return false;
 }
 

@@ -81,9 +81,9 @@ CreaseKind crease_at(const TriangleBvh& surface, const std::vector<Vec3>& normal
 //! skull_hollow's cut plane meets its outer surface at 15-17 degrees.
 constexpr double kKnifeEdgeAngleDeg = 30.0;
 
-//! Does the surface have a knife edge (two neighbouring triangles, no fins, whose normals
-//! turn by more than 180 - knife_angle_deg degrees)?
-bool has_knife_edge(const std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& triangles,
+//! Does the surface have a knife edge: two neighbouring triangles whose normals (from
+//! unit_triangle_normals: fins have none) turn by more than 180 - knife_angle_deg degrees?
+bool has_knife_edge(const std::vector<std::array<int, 3>>& triangles, const std::vector<Vec3>& normals,
                     double knife_angle_deg = kKnifeEdgeAngleDeg);
 
 //! True if x is within `radius` of a knife edge: an edge of `surface` whose two triangles'

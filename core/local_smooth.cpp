@@ -46,7 +46,7 @@ class NodeSmoother {
     // The knife-edge zone, only where the surface has a knife edge: the nodes that start in
     // it (they stay in it), and the zone's width.
     near_knife_.assign(n, 0);
-    if (options_.knife_edge_slide > 0 && has_knife_edge(surface.points(), surface.triangles())) {
+    if (options_.knife_edge_slide > 0 && has_knife_edge(surface.triangles(), surface_normals_)) {
       knife_zone_ = options_.knife_edge_slide * surface.bounds().diagonal().norm();
 #pragma omp parallel for schedule(dynamic, 256)
       for (long v = 0; v < long(n); ++v)

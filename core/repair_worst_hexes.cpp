@@ -67,7 +67,7 @@ RepairWorstHexesReport repair_worst_hexes(HexMesh& mesh, const TriangleBvh& surf
   const double radius = 1e-7 * surface.bounds().diagonal().norm();
   // Knife edges (see LocalSmoothOptions::knife_edge_slide): their lines' nodes slide, and a
   // node that starts a round within the zone lands in it.
-  const bool knives = options.knife_edge_slide > 0 && has_knife_edge(surface.points(), surface.triangles());
+  const bool knives = options.knife_edge_slide > 0 && has_knife_edge(surface.triangles(), normals);
   const double knife_zone = options.knife_edge_slide * surface.bounds().diagonal().norm();
   const double knife_cos = -std::cos(kKnifeEdgeAngleDeg * M_PI / 180.0);
   if (knives)

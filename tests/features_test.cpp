@@ -118,10 +118,12 @@ TriSurface wedge_prism(double degrees) {
 // 16-degree wedge a point of one face 0.1 from the edge is only 0.028 from the other face.
 TEST(Features, KnifeEdgeZoneIsTheDistanceToTheEdge) {
   const TriSurface wedge = wedge_prism(16);
-  EXPECT_TRUE(has_knife_edge(wedge.points, wedge.triangles));
-  EXPECT_FALSE(has_knife_edge(wedge_prism(40).points, wedge_prism(40).triangles));
-  EXPECT_FALSE(has_knife_edge(box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), 2).points,
-                              box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), 2).triangles));
+  auto knife = [](const TriSurface& s) {
+    return has_knife_edge(s.triangles, unit_triangle_normals(s.points, s.triangles));
+  };
+  EXPECT_TRUE(knife(wedge));
+  EXPECT_FALSE(knife(wedge_prism(40)));
+  EXPECT_FALSE(knife(box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), 2)));
   const TriangleBvh bvh(wedge);
   const std::vector<Vec3> normals = unit_triangle_normals(wedge.points, wedge.triangles);
   const Vec3 along_face = (wedge.points[1] - wedge.points[0]).normalized();
