@@ -4,6 +4,7 @@
 // the benchmark harness both run it; writing files is left to the caller.
 #pragma once
 
+#include "core/local_smooth.h"
 #include "core/progress.h"
 #include "core/quality.h"
 #include "core/types.h"
@@ -36,7 +37,7 @@ struct PipelineOptions {
   //! How far (a fraction of the input's bounding-box diagonal) the nodes of a knife edge (a
   //! convex crease under 30 degrees) may slide off it; 0 keeps knife edges sharp. See
   //! LocalSmoothOptions::knife_edge_slide.
-  double knife_edge_slide = 0.005;
+  double knife_edge_slide = LocalSmoothOptions().knife_edge_slide;
   std::string tetgen_switches = "pq1.2Y";
   double time_limit_seconds = 600;  //!< bound for TetGen and the optimizer each
   bool global_smoothing = false;    //!< smooth the coarse surface globally (the paper's comparison)

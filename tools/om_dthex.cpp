@@ -196,7 +196,7 @@ int main(int argc, char** argv) {
                  "how far the nodes of a knife edge (a convex edge of the surface under 30 degrees, e.g. where a cut\n"
                  "plane meets a bone at a grazing angle) may slide off it, as a fraction of the bounding-box diagonal:\n"
                  "the hexes in such a wedge are thin, and rounding it off a little lifts them. 0 keeps knife edges sharp")
-      ->default_val(0.005)
+      ->capture_default_str()
       ->check(CLI::Range(0.0, 0.05));
   app.add_option("--target-nodes", cl.pipeline.target_nodes,
                  "choose eps so the hex mesh has about N nodes (within 10%); overrides --eps")
