@@ -27,6 +27,12 @@ class NodeSmoother {
       : mesh_(mesh), surface_(surface), options_(options) {
     const size_t n = mesh.nodes.size();
     node_hexes_.resize(n);
+    {
+      std::vector<int> count(n, 0);
+      for (const auto& hex : mesh.hexes)
+        for (int v : hex) ++count[size_t(v)];
+      for (size_t v = 0; v < n; ++v) node_hexes_[v].reserve(size_t(count[v]));
+    }
     for (size_t h = 0; h < mesh.hexes.size(); ++h)
       for (int i = 0; i < 8; ++i) node_hexes_[size_t(mesh.hexes[h][size_t(i)])].push_back({int(h), i});
     is_boundary_.assign(n, 0);
@@ -36,10 +42,11 @@ class NodeSmoother {
       if (mesh.is_boundary_node(int(v))) is_boundary_[v] = 1;
     sj_.resize(mesh.hexes.size());
     shape_.resize(mesh.hexes.size());
-    for (size_t h = 0; h < mesh.hexes.size(); ++h) {
-      const HexScaledJacobianAndShape q = hex_scaled_jacobian_and_shape(hex_corners(mesh, h));
-      sj_[h] = q.scaled_jacobian;
-      shape_[h] = q.shape;
+#pragma omp parallel for schedule(static) if (mesh.hexes.size() > 50000)
+    for (long h = 0; h < long(mesh.hexes.size()); ++h) {
+      const HexScaledJacobianAndShape q = hex_scaled_jacobian_and_shape(hex_corners(mesh, size_t(h)));
+      sj_[size_t(h)] = q.scaled_jacobian;
+      shape_[size_t(h)] = q.shape;
     }
     surface_normals_ = unit_triangle_normals(surface.points(), surface.triangles());
     min_normal_cos_ = std::cos(options_.max_normal_turn_deg * M_PI / 180.0);
@@ -173,12 +180,26 @@ class NodeSmoother {
       for (size_t v = 0; v < active.size(); ++v)
         if (is_boundary_[v]) active[v] = 0;
     std::vector<char> moved(mesh_.nodes.size(), 0);
+    // Coloured once: a later sweep's nodes are any nodes of hexes below the threshold then
+    // (a move can push a neighbour's hex below it), so every node that may move is coloured,
+    // and each sweep takes the active ones of each class. Colouring anew per sweep cost the
+    // armadillo 0.6 s a sweep.
+    if (options_.shape_sweeps <= 0) return;
+    std::vector<char> movable(mesh_.nodes.size(), 1);
+    if (!options_.move_boundary)
+      for (size_t v = 0; v < movable.size(); ++v) movable[v] = !is_boundary_[v];
+    const std::vector<std::vector<int>> classes = colour_classes(movable);
+    std::vector<int> nodes;
     for (int sweep = 0; sweep < options_.shape_sweeps; ++sweep) {
-      const std::vector<std::vector<int>> classes = colour_classes(active);
-      if (classes.empty()) break;
-      std::fill(active.begin(), active.end(), 0);
+      if (std::find(active.begin(), active.end(), 1) == active.end()) break;
+      const std::vector<char> sweep_active = std::move(active);
+      active.assign(mesh_.nodes.size(), 0);
       ++report.sweeps;
-      for (const std::vector<int>& nodes : classes) {
+      for (const std::vector<int>& coloured : classes) {
+        nodes.clear();
+        for (int v : coloured)
+          if (sweep_active[size_t(v)]) nodes.push_back(v);
+        if (nodes.empty()) continue;
         if (out_of_time(report)) return;
         const long count = long(nodes.size());
 #pragma omp parallel if (count > 32)

@@ -183,6 +183,7 @@ class Untangler {
     }
     for (size_t v = 0; v < n_nodes; ++v) node_scale_[v] = count[v] ? node_scale_[v] / count[v] : 1.0;
     node_hexes_.resize(n_nodes);
+    for (size_t v = 0; v < n_nodes; ++v) node_hexes_[v].reserve(size_t(count[v]));  // no regrowth: a third of the time
     for (size_t h = 0; h < mesh.hexes.size(); ++h)
       for (int v : mesh.hexes[h]) node_hexes_[size_t(v)].push_back(int(h));
   }
