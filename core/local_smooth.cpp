@@ -180,26 +180,12 @@ class NodeSmoother {
       for (size_t v = 0; v < active.size(); ++v)
         if (is_boundary_[v]) active[v] = 0;
     std::vector<char> moved(mesh_.nodes.size(), 0);
-    // Coloured once: a later sweep's nodes are any nodes of hexes below the threshold then
-    // (a move can push a neighbour's hex below it), so every node that may move is coloured,
-    // and each sweep takes the active ones of each class. Colouring anew per sweep cost the
-    // armadillo 0.6 s a sweep.
-    if (options_.shape_sweeps <= 0) return;
-    std::vector<char> movable(mesh_.nodes.size(), 1);
-    if (!options_.move_boundary)
-      for (size_t v = 0; v < movable.size(); ++v) movable[v] = !is_boundary_[v];
-    const std::vector<std::vector<int>> classes = colour_classes(movable);
-    std::vector<int> nodes;
     for (int sweep = 0; sweep < options_.shape_sweeps; ++sweep) {
-      if (std::find(active.begin(), active.end(), 1) == active.end()) break;
-      const std::vector<char> sweep_active = std::move(active);
-      active.assign(mesh_.nodes.size(), 0);
+      const std::vector<std::vector<int>> classes = colour_classes(active);
+      if (classes.empty()) break;
+      std::fill(active.begin(), active.end(), 0);
       ++report.sweeps;
-      for (const std::vector<int>& coloured : classes) {
-        nodes.clear();
-        for (int v : coloured)
-          if (sweep_active[size_t(v)]) nodes.push_back(v);
-        if (nodes.empty()) continue;
+      for (const std::vector<int>& nodes : classes) {
         if (out_of_time(report)) return;
         const long count = long(nodes.size());
 #pragma omp parallel if (count > 32)
