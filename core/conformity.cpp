@@ -117,6 +117,14 @@ std::vector<std::array<int, 4>> boundary_quads(const HexMesh& mesh, std::vector<
   return boundary_quads_of(mesh, sorted_face_uses(mesh), owners);
 }
 
+std::vector<char> boundary_nodes(const HexMesh& mesh) {
+  std::vector<char> on_boundary(mesh.nodes.size(), 0);
+  for (size_t v = 0; v < mesh.nodes.size(); ++v) on_boundary[v] = mesh.is_boundary_node(int(v));
+  for (const auto& quad : boundary_quads(mesh))
+    for (int v : quad) on_boundary[size_t(v)] = 1;
+  return on_boundary;
+}
+
 ConformityReport check_conformity(const HexMesh& mesh, std::vector<std::array<int, 4>>* boundary,
                                   std::vector<int>* boundary_owners) {
   ConformityReport r;

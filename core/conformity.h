@@ -53,4 +53,9 @@ ConformityReport check_conformity(const HexMesh& mesh, std::vector<std::array<in
 //! `owners` when given.
 std::vector<std::array<int, 4>> boundary_quads(const HexMesh& mesh, std::vector<int>* owners = nullptr);
 
+//! Per node: 1 if it lies on a boundary quad or carries a boundary facet, the nodes that the
+//! untangler and the smoothers keep on the surface. They depend on the topology only, so a
+//! pipeline computes them once and hands them to each (on a 1.5M-hex mesh 0.5-0.8 s a time).
+std::vector<char> boundary_nodes(const HexMesh& mesh);
+
 }  // namespace dthex

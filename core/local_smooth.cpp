@@ -35,11 +35,10 @@ class NodeSmoother {
     }
     for (size_t h = 0; h < mesh.hexes.size(); ++h)
       for (int i = 0; i < 8; ++i) node_hexes_[size_t(mesh.hexes[h][size_t(i)])].push_back({int(h), i});
-    is_boundary_.assign(n, 0);
-    for (const auto& q : boundary_quads(mesh))
-      for (int v : q) is_boundary_[size_t(v)] = 1;
-    for (size_t v = 0; v < n; ++v)
-      if (mesh.is_boundary_node(int(v))) is_boundary_[v] = 1;
+    if (options.boundary_nodes && options.boundary_nodes->size() == n)
+      is_boundary_ = *options.boundary_nodes;
+    else
+      is_boundary_ = boundary_nodes(mesh);
     sj_.resize(mesh.hexes.size());
     shape_.resize(mesh.hexes.size());
 #pragma omp parallel for schedule(static) if (mesh.hexes.size() > 50000)

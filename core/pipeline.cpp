@@ -348,6 +348,8 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
   if (!options.thex_only && options.project) {
     // Before projection moves them: the nodes that lie on the coarse surface's feature lines.
     const std::vector<char> feature_nodes = nodes_on_feature_edges(result.hexes, result.coarse);
+    // The topology is final: the boundary nodes, found once for the untangler and smoothers.
+    const std::vector<char> on_boundary = boundary_nodes(result.hexes);
     timed_stage(result, progress, "project", [&] {
       ProjectOptions project_options;
       project_options.held_nodes = &feature_nodes;  // the relaxation leaves them on their feature lines
@@ -367,6 +369,7 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
       // still below a useful scaled Jacobian are raised by the local smoother next, which
       // is far cheaper than the untangler's regional repairs and gets further.
       untangle_options.target_scaled_jacobian = 0;
+      untangle_options.boundary_nodes = &on_boundary;
       const UntangleReport report = untangle_and_smooth(result.hexes, input_bvh, untangle_options);
       result.inverted_before_untangle = report.inverted_before;
       std::ostringstream out;
@@ -380,6 +383,7 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
       smooth_options.time_limit_seconds = options.time_limit_seconds;
       smooth_options.feature_nodes = &feature_nodes;
       smooth_options.knife_edge_slide = options.knife_edge_slide;
+      smooth_options.boundary_nodes = &on_boundary;
       const LocalSmoothReport report = smooth_worst_hexes(result.hexes, input_bvh, smooth_options);
       smoothed_min = report.min_scaled_jacobian_after;
       std::ostringstream out;
@@ -390,6 +394,7 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
     RepairWorstHexesOptions repair_options;
     repair_options.feature_nodes = &feature_nodes;
     repair_options.knife_edge_slide = options.knife_edge_slide;
+    repair_options.boundary_nodes = &on_boundary;
     repair_options.time_limit_seconds = options.time_limit_seconds;
     // Hexes left below the threshold make this mesh poor. If thin walls are then the likely
     // cause, run_pipeline meshes again sized by thickness whatever the repair reaches, so the

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "core/repair_worst_hexes.h"
 
+#include "core/conformity.h"
 #include "core/features.h"
 #include "core/local_smooth.h"
 #include "core/quality.h"
@@ -49,7 +50,12 @@ RepairWorstHexesReport repair_worst_hexes(HexMesh& mesh, const TriangleBvh& surf
   }
 
   const auto start = std::chrono::steady_clock::now();
+  // The boundary nodes, once for every round's region solve and smoothing.
+  const std::vector<char> on_boundary =
+      options.boundary_nodes && options.boundary_nodes->size() == mesh.nodes.size() ? *options.boundary_nodes
+                                                                                    : boundary_nodes(mesh);
   UntangleOptions region;
+  region.boundary_nodes = &on_boundary;
   region.target_scaled_jacobian = options.threshold;
   region.region_rings = options.region_rings;
   region.max_boundary_phases = options.sliding_passes;
@@ -93,6 +99,7 @@ RepairWorstHexesReport repair_worst_hexes(HexMesh& mesh, const TriangleBvh& surf
     return true;
   };
   LocalSmoothOptions raise;
+  raise.boundary_nodes = &on_boundary;
   raise.target_scaled_jacobian = options.target_scaled_jacobian;
   raise.shape_sweeps = options.shape_sweeps;
   raise.feature_nodes = options.feature_nodes;

@@ -165,10 +165,11 @@ class Untangler {
                                    std::chrono::duration<double>(options.time_limit_seconds));
     const size_t n_nodes = mesh.nodes.size();
     // Boundary nodes: those of the faces used by one hex only, and those with a facet.
-    is_boundary_.assign(n_nodes, false);
-    for (size_t v = 0; v < n_nodes; ++v) is_boundary_[v] = mesh.is_boundary_node(int(v));
-    for (const auto& quad : boundary_quads(mesh))
-      for (int v : quad) is_boundary_[size_t(v)] = true;
+    const std::vector<char> on_boundary = options.boundary_nodes && options.boundary_nodes->size() == n_nodes
+                                              ? std::vector<char>()
+                                              : boundary_nodes(mesh);
+    const std::vector<char>& given = on_boundary.empty() ? *options.boundary_nodes : on_boundary;
+    is_boundary_.assign(given.begin(), given.end());
     // Per-hex reference size (mean edge length) and per-node variable scale.
     hex_size_.resize(mesh.hexes.size());
     node_scale_.assign(n_nodes, 0.0);

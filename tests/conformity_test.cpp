@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 
 using namespace dthex;
@@ -45,6 +46,28 @@ TEST(Conformity, BlockIsConformingWithClosedOutwardBoundary) {
     const Vec3 mid = 0.25 * (block.nodes[size_t(q[0])] + block.nodes[size_t(q[1])] + block.nodes[size_t(q[2])] + block.nodes[size_t(q[3])]);
     EXPECT_GT(n.dot(mid - centre), 0.0);
   }
+}
+
+// A 4 x 3 x 2 block of hexes has 5 * 4 * 3 = 60 nodes, of which 3 * 2 * 1 = 6 are inside;
+// a node labelled with a facet counts as boundary wherever it is (projection holds it).
+TEST(Conformity, BoundaryNodesAreTheQuadNodesAndTheLabelledOnes) {
+  HexMesh block = fixtures::hex_block(4, 3, 2);
+  ASSERT_EQ(block.nodes.size(), 60u);
+  std::vector<char> on_boundary = boundary_nodes(block);
+  EXPECT_EQ(std::count(on_boundary.begin(), on_boundary.end(), 1), 54);
+  int inner = -1;
+  for (size_t v = 0; v < block.nodes.size(); ++v)
+    if (!on_boundary[v]) {
+      const Vec3& p = block.nodes[v];
+      EXPECT_TRUE(p.x() > 0 && p.x() < 4 && p.y() > 0 && p.y() < 3 && p.z() > 0 && p.z() < 2) << p.transpose();
+      inner = int(v);
+    }
+  ASSERT_GE(inner, 0);
+  block.boundary_facet.assign(block.nodes.size(), -1);
+  block.boundary_facet[size_t(inner)] = 0;
+  on_boundary = boundary_nodes(block);
+  EXPECT_EQ(std::count(on_boundary.begin(), on_boundary.end(), 1), 55);
+  EXPECT_EQ(on_boundary[size_t(inner)], 1);
 }
 
 TEST(Conformity, ThexAndDiceOfATetGenMeshAreConforming) {
