@@ -68,7 +68,8 @@ struct LocalSmoothOptions {
   //! 0 holds them like any crease. Unbounded (no zone), the nodes of a 16-degree wedge
   //! of 8 triangles slid until it was cut off by 1.8% of its diagonal.
   double knife_edge_slide = 0.005;
-  //! Optional: boundary_nodes(mesh) (conformity.h), if the caller has it; else it is computed.
+  //! Optional: boundary_nodes(mesh) (conformity.h), if the caller has it; without it (or if
+  //! its size is not the mesh's node count) they are found here.
   const std::vector<char>* boundary_nodes = nullptr;
   double time_limit_seconds = 120.0;
 };

@@ -55,7 +55,8 @@ struct RepairWorstHexesOptions {
   //! As LocalSmoothOptions::knife_edge_slide, for the region solve's slides too (the nodes
   //! of a knife edge's line are not held).
   double knife_edge_slide = LocalSmoothOptions().knife_edge_slide;
-  //! Optional: boundary_nodes(mesh) (conformity.h), if the caller has it; else it is computed.
+  //! Optional: boundary_nodes(mesh) (conformity.h), if the caller has it; without it (or if
+  //! its size is not the mesh's node count) they are found here.
   const std::vector<char>* boundary_nodes = nullptr;
   double time_limit_seconds = 120.0;
 };

@@ -58,7 +58,8 @@ struct UntangleOptions {
   //! sixth off the spot's untangling) but leave more to the sliding repair, which cost
   //! the spot's final minimum scaled Jacobian (0.119 instead of 0.191).
   int fixed_boundary_rounds = 20;
-  //! Optional: boundary_nodes(mesh) (conformity.h), if the caller has it; else it is computed.
+  //! Optional: boundary_nodes(mesh) (conformity.h), if the caller has it; without it (or if
+  //! its size is not the mesh's node count) they are found here.
   const std::vector<char>* boundary_nodes = nullptr;
   //! The run stops (and reports what it reached) after this much wall time.
   double time_limit_seconds = 120.0;
