@@ -117,7 +117,8 @@ std::vector<std::array<int, 4>> boundary_quads(const HexMesh& mesh, std::vector<
   return boundary_quads_of(mesh, sorted_face_uses(mesh), owners);
 }
 
-std::vector<char> boundary_nodes(const HexMesh& mesh) {
+std::vector<char> boundary_nodes(const HexMesh& mesh, const std::vector<char>* known) {
+  if (known && known->size() == mesh.nodes.size()) return *known;
   std::vector<char> on_boundary(mesh.nodes.size(), 0);
   for (size_t v = 0; v < mesh.nodes.size(); ++v) on_boundary[v] = mesh.is_boundary_node(int(v));
   for (const auto& quad : boundary_quads(mesh))

@@ -35,10 +35,7 @@ class NodeSmoother {
     }
     for (size_t h = 0; h < mesh.hexes.size(); ++h)
       for (int i = 0; i < 8; ++i) node_hexes_[size_t(mesh.hexes[h][size_t(i)])].push_back({int(h), i});
-    if (options.boundary_nodes && options.boundary_nodes->size() == n)
-      is_boundary_ = *options.boundary_nodes;
-    else
-      is_boundary_ = boundary_nodes(mesh);
+    is_boundary_ = boundary_nodes(mesh, options.boundary_nodes);
     sj_.resize(mesh.hexes.size());
     shape_.resize(mesh.hexes.size());
 #pragma omp parallel for schedule(static) if (mesh.hexes.size() > 50000)

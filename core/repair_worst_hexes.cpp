@@ -51,9 +51,7 @@ RepairWorstHexesReport repair_worst_hexes(HexMesh& mesh, const TriangleBvh& surf
 
   const auto start = std::chrono::steady_clock::now();
   // The boundary nodes, once for every round's region solve and smoothing.
-  const std::vector<char> on_boundary =
-      options.boundary_nodes && options.boundary_nodes->size() == mesh.nodes.size() ? *options.boundary_nodes
-                                                                                    : boundary_nodes(mesh);
+  const std::vector<char> on_boundary = boundary_nodes(mesh, options.boundary_nodes);
   UntangleOptions region;
   region.boundary_nodes = &on_boundary;
   region.target_scaled_jacobian = options.threshold;

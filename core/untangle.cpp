@@ -165,9 +165,7 @@ class Untangler {
                                    std::chrono::duration<double>(options.time_limit_seconds));
     const size_t n_nodes = mesh.nodes.size();
     // Boundary nodes: those of the faces used by one hex only, and those with a facet.
-    const bool given = options.boundary_nodes && options.boundary_nodes->size() == n_nodes;
-    const std::vector<char> found = given ? std::vector<char>() : boundary_nodes(mesh);
-    const std::vector<char>& on_boundary = given ? *options.boundary_nodes : found;
+    const std::vector<char> on_boundary = boundary_nodes(mesh, options.boundary_nodes);
     is_boundary_.assign(on_boundary.begin(), on_boundary.end());
     // Per-hex reference size (mean edge length) and per-node variable scale.
     hex_size_.resize(mesh.hexes.size());

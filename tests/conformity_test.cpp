@@ -68,6 +68,10 @@ TEST(Conformity, BoundaryNodesAreTheQuadNodesAndTheLabelledOnes) {
   on_boundary = boundary_nodes(block);
   EXPECT_EQ(std::count(on_boundary.begin(), on_boundary.end(), 1), 55);
   EXPECT_EQ(on_boundary[size_t(inner)], 1);
+  // Known flags are taken as they are; flags of another size are not.
+  const std::vector<char> all(block.nodes.size(), 1), short_list(3, 1);
+  EXPECT_EQ(boundary_nodes(block, &all), all);
+  EXPECT_EQ(boundary_nodes(block, &short_list), on_boundary);
 }
 
 TEST(Conformity, ThexAndDiceOfATetGenMeshAreConforming) {
