@@ -14,6 +14,7 @@
 #include "core/read_surface.h"
 #include "core/relax_interior_points.h"
 #include "core/refine_flat_needles.h"
+#include "core/remesh_isotropic.h"
 #include "core/remove_flat_valence3_vertices.h"
 #include "core/remove_boundary_edges.h"
 #include "core/repair_boundary_folds.h"
@@ -31,6 +32,7 @@
 #include <iomanip>
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <numeric>
 #include <sstream>
 
@@ -265,12 +267,13 @@ bool thickness_retry_possible(const PipelineOptions& options) {
          options.project;
 }
 bool thin_walls_likely_cause(const PipelineResult& result) {
-  return result.thin_wall_vertices * 20 >= result.input_summary.vertices;
+  return result.thin_wall_vertices * 20 >= result.coarsening_input().points.size();
 }
 
-// Every stage after verification, into `result` (which holds the verified input).
-void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, const PipelineOptions& options,
-                         Progress& progress) {
+// Every stage after verification, into `result` (which holds the verified input and, if it
+// was remeshed, the remeshed surface; `coarsening_bvh` is the tree over the one coarsened).
+void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, const TriangleBvh& coarsening_bvh,
+                         const PipelineOptions& options, Progress& progress) {
   const std::string& input_path = result.input_path;
   result.thickness_ratio_used = options.thickness_ratio;
   result.eps = options.eps;
@@ -280,7 +283,8 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
   auto count_thin_walls = [&] {
     if (!thin_walls_counted)
       timed_stage(result, progress, "thin walls", [&] {
-        result.thin_wall_vertices = count_thin_wall_vertices(result.input, coarsen_options_for(options, result.eps));
+        result.thin_wall_vertices =
+            count_thin_wall_vertices(result.coarsening_input(), coarsen_options_for(options, result.eps));
         return count_text("input vertices", result.thin_wall_vertices) + " on walls thinner than their size";
       });
     thin_walls_counted = true;
@@ -288,7 +292,7 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
   };
   if (options.target_nodes > 0 && !options.thex_only) {
     timed_stage(result, progress, "choose eps", [&] {
-      result.eps = choose_eps_for_nodes(result.input, options, input_path, progress);
+      result.eps = choose_eps_for_nodes(result.coarsening_input(), options, input_path, progress);
       return "eps " + std::to_string(result.eps) + " for about " + std::to_string(options.target_nodes) + " nodes";
     });
   }
@@ -300,7 +304,7 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
     timed_stage(result, progress, "coarsen", [&] {
       CoarsenOptions coarsen_options = coarsen_options_for(options, result.eps);
       coarsen_options.progress = [&](double f) { progress.update(f); };
-      CoarsenResult coarse = coarsen(result.input, coarsen_options, &input_bvh);
+      CoarsenResult coarse = coarsen(result.coarsening_input(), coarsen_options, &coarsening_bvh);
       result.coarse = std::move(coarse.surface);
       result.thin_wall_vertices = coarse.thin_wall_vertices;
       std::string detail = count_text("triangles", result.coarse.triangles.size());
@@ -470,6 +474,34 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
   if (poor && !options.thex_only && options.thickness_ratio <= 0) count_thin_walls();
 }
 
+// An input of needles (PipelineOptions::remesh) is remeshed with even triangles into
+// result.remeshed. A remeshed surface that fails verification is dropped with a message:
+// the input itself is then coarsened, as without the option.
+void remesh_if_needed(PipelineResult& result, const PipelineOptions& options, Progress& progress) {
+  if (options.thex_only || options.remesh == PipelineOptions::Remesh::never) return;
+  const double needles = needle_share(result.input);
+  if (options.remesh == PipelineOptions::Remesh::automatic && needles < kRemeshNeedleShare) return;
+  timed_stage(result, progress, "remesh input", [&] {
+    RemeshIsotropicOptions remesh_options;
+    remesh_options.progress = [&](double f) { progress.update(f); };
+    RemeshIsotropicReport report;
+    TriSurface remeshed = remesh_isotropic(result.input, remesh_options, &report);
+    std::ostringstream out;
+    out << std::round(needles * 100) << "% needles; ";
+    try {
+      verify_surface(remeshed, result.input_path + " (remeshed)");
+    } catch (const InputError& e) {
+      out << "the remeshed surface failed verification (" << e.what() << "), so the input is coarsened as it is";
+      return out.str();
+    }
+    result.remeshed = std::move(remeshed);
+    out << report.triangles_before << " -> " << report.triangles_after << " triangles of edge " << report.edge_length
+        << ", smallest angle " << std::setprecision(3) << report.min_angle_before_deg << " -> "
+        << report.min_angle_after_deg << " degrees";
+    return out.str();
+  });
+}
+
 // The order in which two meshes of one input are preferred: a conforming mesh, then fewer
 // inverted hexes, then the higher minimum scaled Jacobian.
 bool better_mesh(const PipelineResult& a, const PipelineResult& b) {
@@ -492,8 +524,12 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
   const auto start = Clock::now();
   PipelineResult result = read_and_verify(input_path, progress);
   const TriangleBvh input_bvh(result.input);
+  remesh_if_needed(result, options, progress);
+  const std::unique_ptr<TriangleBvh> remeshed_bvh =
+      result.remeshed.triangles.empty() ? nullptr : std::make_unique<TriangleBvh>(result.remeshed);
+  const TriangleBvh& coarsening_bvh = remeshed_bvh ? *remeshed_bvh : input_bvh;
   const size_t verify_stages = result.stages.size();
-  mesh_verified_input(result, input_bvh, options, progress);
+  mesh_verified_input(result, input_bvh, coarsening_bvh, options, progress);
 
   // Thin walls sized by curvature alone are the commonest cause of poor hexes; when they are
   // the likely cause here, mesh again sized by the thickness and keep the better mesh.
@@ -503,17 +539,20 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
     retry.input_path = result.input_path;
     retry.input = result.input;
     retry.input_summary = result.input_summary;
+    retry.remeshed = result.remeshed;
     retry.stages.assign(result.stages.begin(), result.stages.begin() + long(verify_stages));
     PipelineOptions thickness_options = options;
     thickness_options.thickness_ratio = 1;
+    // The thin-wall count is of the surface the coarsening started from.
+    const std::string counted = result.remeshed.triangles.empty() ? " input vertices" : " vertices of the remeshed input";
     progress.message("poor hexes (min scaled Jacobian " + std::to_string(result.quality.scaled_jacobian_stats.min) +
-                     ") and " + std::to_string(result.thin_wall_vertices) +
-                     " input vertices on thin walls: meshing again sized by wall thickness (--thickness-ratio 1)");
+                     ") and " + std::to_string(result.thin_wall_vertices) + counted +
+                     " on thin walls: meshing again sized by wall thickness (--thickness-ratio 1)");
     // A failure of the second try (TetGen refusing the finer surface, memory) must not cost
     // the mesh already made: it is kept, and the summary says why the other is missing.
     std::string retry_failure;
     try {
-      mesh_verified_input(retry, input_bvh, thickness_options, progress);
+      mesh_verified_input(retry, input_bvh, coarsening_bvh, thickness_options, progress);
     } catch (const MeshingError& e) {
       retry_failure = e.what();
     } catch (const std::bad_alloc&) {
@@ -527,8 +566,8 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
     };
     const bool keep_retry = retry_failure.empty() && better_mesh(retry, result);
     std::ostringstream out;
-    out << result.thin_wall_vertices << " of " << result.input_summary.vertices
-        << " input vertices lie on walls thinner than their curvature size, so the input was meshed twice:\n"
+    out << result.thin_wall_vertices << " of " << result.coarsening_input().points.size() << counted
+        << " lie on walls thinner than their curvature size, so the input was meshed twice:\n"
         << "  sized by curvature (" << min_sj_text(result) << ") and by wall thickness, --thickness-ratio 1 ("
         << (retry_failure.empty() ? min_sj_text(retry) : "failed: " + retry_failure) << ");\n  kept the "
         << (keep_retry ? "thickness" : "curvature") << "-sized mesh";

@@ -45,6 +45,10 @@ struct PipelineOptions {
   //! If > 0, eps is chosen so the final mesh has about this many nodes (within 10%);
   //! InputError, with the nearest reachable count, when no eps gets there.
   size_t target_nodes = 0;
+  //! Remesh the input with even triangles before coarsening (remesh_isotropic.h): automatic
+  //! when needles are kRemeshNeedleShare or more of its triangles (CAD exports), always, or never.
+  enum class Remesh { automatic, always, never };
+  Remesh remesh = Remesh::automatic;
 };
 
 struct StageRecord {
@@ -66,6 +70,11 @@ struct PipelineResult {
   double eps = 0;                     //!< the coarsening factor used (chosen by --target-nodes or given)
   TriSurface input;
   SurfaceSummary input_summary;
+  //! The input remeshed with even triangles (PipelineOptions::remesh), which the coarsening
+  //! starts from; empty when it starts from the input itself. Projection and the distance
+  //! measurement always use the input.
+  TriSurface remeshed;
+  const TriSurface& coarsening_input() const { return remeshed.triangles.empty() ? input : remeshed; }
   TriSurface coarse;                  //!< the surface TetGen meshed (the input itself for --thex-only)
   SurfaceSummary coarse_summary;
   size_t tets = 0;

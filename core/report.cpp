@@ -93,8 +93,9 @@ std::string summary_table(const PipelineResult& r, const PipelineOptions& o) {
   const bool poor = r.quality.inverted > 0 || r.quality.below_0_2 > 0;
   if (!r.thickness_retry.empty())
     out << "  thin walls: " << r.thickness_retry << "\n";
-  else if (poor && !o.thex_only && o.thickness_ratio <= 0 && r.thin_wall_vertices * 20 >= r.input_summary.vertices)
-    out << "  hint: " << r.thin_wall_vertices << " of " << r.input_summary.vertices
+  else if (poor && !o.thex_only && o.thickness_ratio <= 0 &&
+           r.thin_wall_vertices * 20 >= r.coarsening_input().points.size())
+    out << "  hint: " << r.thin_wall_vertices << " of " << r.coarsening_input().points.size()
         << " input vertices lie on walls thinner than their coarse size; --thickness-ratio 1 sizes such walls by their\n"
            "  thickness (more nodes, better hexes: the shared pelvis went from min scaled Jacobian 0.04 to 0.21)\n";
   return out.str();
@@ -105,6 +106,9 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
   j["tool"] = "om_dthex";
   j["version"] = DTHEX_VERSION;
   j["input"] = {{"path", r.input_path}, {"surface", surface_json(r.input_summary)}};
+  // The surface the coarsening started from, when the input was remeshed first.
+  if (!r.remeshed.triangles.empty())
+    j["input"]["remeshed"] = {{"vertices", r.remeshed.points.size()}, {"triangles", r.remeshed.triangles.size()}};
   j["options"] = {{"eps", r.eps},
                   {"target_nodes", o.target_nodes},
                   {"dice", o.dice},

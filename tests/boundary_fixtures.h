@@ -33,8 +33,9 @@ inline TriSurface read_off(const std::string& path) {
   return s;
 }
 
-//! Axis-aligned box [lo, hi] with each face split into n x n quads, two triangles each, outward.
-inline TriSurface box_surface(const Vec3& lo, const Vec3& hi, int n) {
+//! Axis-aligned box [lo, hi] whose faces are grids of cells[axis] quads along each axis, two
+//! triangles per quad, outward (uneven counts make the needle strips of a CAD export).
+inline TriSurface box_surface(const Vec3& lo, const Vec3& hi, const std::array<int, 3>& cells) {
   TriSurface s;
   std::map<std::array<long, 3>, int> index;
   auto vertex = [&](const Vec3& p) {
@@ -50,12 +51,12 @@ inline TriSurface box_surface(const Vec3& lo, const Vec3& hi, int n) {
       auto at = [&](int i, int j) {
         Vec3 p;
         p[axis] = side ? hi[axis] : lo[axis];
-        p[u] = lo[u] + (hi[u] - lo[u]) * i / n;
-        p[v] = lo[v] + (hi[v] - lo[v]) * j / n;
+        p[u] = lo[u] + (hi[u] - lo[u]) * i / cells[size_t(u)];
+        p[v] = lo[v] + (hi[v] - lo[v]) * j / cells[size_t(v)];
         return vertex(p);
       };
-      for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < cells[size_t(u)]; ++i)
+        for (int j = 0; j < cells[size_t(v)]; ++j) {
           const int a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
           // (u, v, axis) is right-handed: counter-clockwise in (u, v) faces +axis.
           if (side) s.triangles.push_back({a, b, c}), s.triangles.push_back({a, c, d});
@@ -64,6 +65,9 @@ inline TriSurface box_surface(const Vec3& lo, const Vec3& hi, int n) {
     }
   return s;
 }
+
+//! Axis-aligned box [lo, hi] with each face split into n x n quads, two triangles each, outward.
+inline TriSurface box_surface(const Vec3& lo, const Vec3& hi, int n) { return box_surface(lo, hi, {n, n, n}); }
 
 //! Structured block of nx x ny x nz hexes filling [lo, hi], VTK order, no labels.
 inline HexMesh hex_block(const Vec3& lo, const Vec3& hi, int nx, int ny, int nz) {

@@ -198,6 +198,14 @@ int main(int argc, char** argv) {
                  "the hexes in such a wedge are thin, and rounding it off a little lifts them. 0 keeps knife edges sharp")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 0.05));
+  std::string remesh = "auto";
+  app.add_option("--remesh", remesh,
+                 "remesh the input with even triangles before coarsening (split, collapse, flip, relax; feature lines\n"
+                 "kept): CAD exports are made of long needles, which the coarsening cannot undo and which become sliver\n"
+                 "tets. auto (default): when 10% or more of the triangles are needles (longest edge squared over twice\n"
+                 "the area above 10); on: always; off: never")
+      ->default_val("auto")
+      ->check(CLI::IsMember({"auto", "on", "off"}));
   app.add_option("--target-nodes", cl.pipeline.target_nodes,
                  "choose eps so the hex mesh has about N nodes (within 10%); overrides --eps")
       ->check(CLI::PositiveNumber);
@@ -235,6 +243,9 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
     cl.pipeline.thickness_retry = thickness_ratio == "auto";
     cl.pipeline.thickness_ratio = cl.pipeline.thickness_retry ? 0.0 : std::stod(thickness_ratio);
+    cl.pipeline.remesh = remesh == "on"    ? dthex::PipelineOptions::Remesh::always
+                         : remesh == "off" ? dthex::PipelineOptions::Remesh::never
+                                           : dthex::PipelineOptions::Remesh::automatic;
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {

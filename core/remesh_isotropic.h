@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: MIT
+// Before coarsening: an input made of needle triangles (a CAD export of a rod or a plate,
+// whose flat faces are long strips between feature lines) gives the coarsening nothing to
+// work with. Its collapses move vertices along the existing edges, so the strips stay
+// strips, every needle of the coarse surface becomes a sliver tet, and its hexes cannot be
+// made valid (a 20 x 0.5 x 0.5 rod of 2.5 x 0.06 needles ended with 81 inverted hexes).
+// Such an input is remeshed first with even triangles of one edge length: Botsch and Kobbelt,
+// "A remeshing approach to multiresolution modeling" (SGP 2004): split long edges, collapse
+// short ones, flip towards valence 6, relax each vertex in its tangent plane, and put it
+// back on the input surface; feature lines keep their vertices on them, corners stay.
+#pragma once
+
+#include "core/types.h"
+
+#include <functional>
+
+namespace dthex {
+
+struct RemeshIsotropicOptions {
+  //! Edge length aimed at; 0 = automatic (remesh_edge_length).
+  double edge_length = 0;
+  //! Split-collapse-flip-relax rounds.
+  int rounds = 8;
+  //! Feature angle (degrees between triangle normals), as features.h.
+  double feature_angle_deg = 60.0;
+  //! Called with the fraction of rounds done.
+  std::function<void(double)> progress;
+};
+
+struct RemeshIsotropicReport {
+  size_t triangles_before = 0, triangles_after = 0;
+  double edge_length = 0;
+  double min_angle_before_deg = 0, min_angle_after_deg = 0;  //!< smallest triangle angle
+};
+
+//! Share of the triangles that are needles: longest edge squared over twice the area above
+//! 10 (an equilateral triangle has 1.15; a right triangle of legs 1 and 0.1, 10).
+double needle_share(const TriSurface& surface);
+
+//! Needles above this share call for remeshing at --remesh auto. Scans have few needles
+//! (the shared meshes 0-2.3% by the measure above), CAD exports mostly needles.
+constexpr double kRemeshNeedleShare = 0.10;
+
+//! The automatic edge length: that of an equilateral triangle of the input's mean area (the
+//! remeshed surface has about as many triangles as the input), but no more than the wall
+//! thickness at the thinner 5% of the vertices (so the thickness sizing can still work on
+//! thin walls), and no less than needed to stay within `max_triangles`.
+double remesh_edge_length(const TriSurface& surface, size_t max_triangles = 400000);
+
+//! The remeshed surface of a verified (closed, manifold, consistently oriented) surface.
+//! Every vertex lies on the input surface, a vertex on a feature line on that line; the
+//! result keeps the orientation. The caller verifies it (a fold is possible in principle).
+TriSurface remesh_isotropic(const TriSurface& surface, const RemeshIsotropicOptions& options = {},
+                            RemeshIsotropicReport* report = nullptr);
+
+}  // namespace dthex
