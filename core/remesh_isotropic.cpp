@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 // GCC 12 warns, wrongly, that OpenMesh's add_vertex copies an uninitialized default normal
 // (a VectorT this file never reads: it computes its normals from the points).
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include "core/remesh_isotropic.h"
 
 #include "core/features.h"
@@ -41,7 +43,7 @@ double smallest_angle_deg(const TriSurface& s) {
 class Remesher {
  public:
   Remesher(const TriSurface& input, const RemeshIsotropicOptions& options, double edge_length)
-      : input_(input), input_bvh_(input), options_(options), length_(edge_length) {
+      : input_bvh_(input), options_(options), length_(edge_length) {
     mesh_ = to_openmesh(input);
     mark_features(mesh_, options.feature_angle_deg);
     // The input's feature lines as zero-area triangles (a, b, b): the tree's closest point
@@ -257,7 +259,6 @@ class Remesher {
   // feature angle): never onto the far side of a crease or a thin wall.
   static constexpr double kProjectFacingCos = 0.5;
 
-  const TriSurface& input_;
   TriangleBvh input_bvh_;
   std::unique_ptr<TriangleBvh> feature_bvh_;
   std::vector<Vec3> input_normals_;
