@@ -202,7 +202,7 @@ int main(int argc, char** argv) {
   app.add_option("--remesh", remesh,
                  "remesh the input with even triangles before coarsening (split, collapse, flip, relax; feature lines\n"
                  "kept): CAD exports are made of long needles, which the coarsening cannot undo and which become sliver\n"
-                 "tets. auto (default): when 10% or more of the triangles are needles (longest edge squared over twice\n"
+                 "tets. auto (default): when 0.5% or more of the triangles are needles (longest edge squared over twice\n"
                  "the area above 10); on: always; off: never")
       ->default_val("auto")
       ->check(CLI::IsMember({"auto", "on", "off"}));
