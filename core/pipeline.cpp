@@ -101,7 +101,7 @@ CoarsenOptions coarsen_options_for(const PipelineOptions& options, double eps) {
 
 TetgenOptions tetgen_options_for(const PipelineOptions& options) {
   TetgenOptions t;
-  t.switches = options.tetgen_switches;
+  t.switches = tetgen_switches_for(options);
   t.time_limit_seconds = options.time_limit_seconds;
   return t;
 }
@@ -240,6 +240,11 @@ double choose_eps_for_nodes(const TriSurface& input, const PipelineOptions& opti
 }
 
 }  // namespace
+
+std::string tetgen_switches_for(const PipelineOptions& options) {
+  if (!options.tetgen_switches.empty()) return options.tetgen_switches;
+  return options.thex_only ? kThexTetgenSwitches : kDthexTetgenSwitches;
+}
 
 PipelineResult read_and_verify(const std::string& input_path, Progress& progress) {
   PipelineResult result;

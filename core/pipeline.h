@@ -38,7 +38,8 @@ struct PipelineOptions {
   //! convex crease under 30 degrees) may slide off it; 0 keeps knife edges sharp. See
   //! LocalSmoothOptions::knife_edge_slide.
   double knife_edge_slide = LocalSmoothOptions().knife_edge_slide;
-  std::string tetgen_switches = "pq1.2Y";
+  //! TetGen switches; empty = tetgen_switches_for's default for the method.
+  std::string tetgen_switches;
   double time_limit_seconds = 600;  //!< bound for TetGen and the optimizer each
   bool global_smoothing = false;    //!< smooth the coarse surface globally (the paper's comparison)
   bool judge_after_smoothing = true;  //!< CoarsenOptions::judge_after_smoothing
@@ -100,6 +101,15 @@ struct PipelineResult {
   std::vector<StageRecord> stages;
   double total_seconds = 0;
 };
+
+//! THex's tets keep TetGen's radius-edge bound 1.2, as the paper's baseline and
+//! ../shared/notes/baselines.md run it. DTHex's coarse tets are diced, untangled and
+//! smoothed afterwards, and 1.5 lets TetGen put fewer points inside: on the bundled and
+//! shared meshes 4-28% fewer hex nodes, with every hex still above scaled Jacobian 0.2.
+constexpr const char* kThexTetgenSwitches = "pq1.2Y";
+constexpr const char* kDthexTetgenSwitches = "pq1.5Y";
+//! The switches a run uses: the given ones, else the method's default above.
+std::string tetgen_switches_for(const PipelineOptions& options);
 
 //! Reads and verifies only (InputError on a bad surface).
 PipelineResult read_and_verify(const std::string& input_path, Progress& progress);

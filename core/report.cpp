@@ -121,7 +121,7 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
                   {"project", o.project},
                   {"strict", o.strict},
                   {"knife_edge_slide", o.knife_edge_slide},
-                  {"tetgen", o.tetgen_switches},
+                  {"tetgen", tetgen_switches_for(o)},
                   {"time_limit_seconds", o.time_limit_seconds}};
   if (!o.thex_only) {
     j["coarse"] = surface_json(r.coarse_summary);

@@ -647,7 +647,7 @@ std::string report_html(const PipelineResult& r, const PipelineOptions& options,
                                                                       std::to_string(options.target_nodes) + ")"
                                                                 : std::string())
          << ", dice " << options.dice << (options.project ? "" : ", not projected");
-  page << ", TetGen " << escape_html(options.tetgen_switches) << " &middot; input " << r.input_summary.vertices
+  page << ", TetGen " << escape_html(tetgen_switches_for(options)) << " &middot; input " << r.input_summary.vertices
        << " vertices, " << r.input_summary.triangles << " triangles, genus " << r.input_summary.genus << "</p>\n";
 
   page << "<h2>Result</h2>\n" << comparison_table(runs);

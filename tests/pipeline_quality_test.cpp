@@ -75,6 +75,26 @@ TEST(PipelineQuality, PapersSphereDicedByThreeIsSmallAndWellShaped) {
 }
 
 TEST(PipelineQuality, HeartMeetsDoneWhen) { expect_done_when("heart.off", 0.1, 2); }
+
+TEST(PipelineQuality, DthexTetsTakeTheLooserBoundAndFewerNodes) {
+  // THex keeps the paper's TetGen bound (radius-edge 1.2); DTHex's coarse tets take 1.5 unless
+  // switches are given. On the liver that is 14,575 nodes against 16,723, every hex still
+  // above 0.2: the interior points a tight bound adds each become 8 hexes after dicing.
+  PipelineOptions dthex, thex, given;
+  thex.thex_only = true;
+  given.tetgen_switches = "pq1.2Y";
+  EXPECT_EQ(tetgen_switches_for(thex), std::string("pq1.2Y"));
+  EXPECT_EQ(tetgen_switches_for(dthex), std::string("pq1.5Y"));
+  EXPECT_EQ(tetgen_switches_for(given), std::string("pq1.2Y"));
+  Progress quiet;
+  const std::string liver = DTHEX_SOURCE_DIR "/meshes/liver.off";
+  const PipelineResult loose = run_pipeline(liver, dthex, quiet);
+  const PipelineResult tight = run_pipeline(liver, given, quiet);
+  EXPECT_LT(loose.tets, tight.tets);
+  EXPECT_LT(double(loose.hexes.nodes.size()), 0.95 * double(tight.hexes.nodes.size()));
+  EXPECT_GE(loose.quality.scaled_jacobian_stats.min, 0.2);
+  EXPECT_EQ(loose.quality.inverted, 0u);
+}
 TEST(PipelineQuality, FemurMeetsDoneWhen) { expect_done_when("femur_proximal_ct.off", 0.2, 2); }
 
 //! A hollow body (a bone's marrow cavity, a heart's chamber) is a second, inner surface;

@@ -221,8 +221,8 @@ int main(int argc, char** argv) {
                "follows puts the kept vertex: coarser surfaces that reach the sizes (the paper's sphere at eps 0.1: 14 "
                "vertices, not 20). --judge-in-place judges them with the kept vertex in place, as the paper prints it");
   app.add_option("--tetgen", cl.pipeline.tetgen_switches,
-                 "TetGen switches (Y keeps the surface; q ratio bound; a volume bound)")
-      ->default_val("pq1.2Y");
+                 "TetGen switches (Y keeps the surface; q radius-edge ratio bound; a volume bound). Default: pq1.5Y\n"
+                 "for DTHex's coarse surface, pq1.2Y for --thex-only and --compare-thex's baseline (the paper's THex)");
   app.add_option("--time-limit", cl.pipeline.time_limit_seconds,
                  "seconds allowed for TetGen (exceeded: exit 3) and for the untangling optimizer (it stops there and\nreports what it reached; with --strict a remaining inverted hex is exit 3)")
       ->default_val(600.0)
