@@ -121,6 +121,9 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
                   {"project", o.project},
                   {"strict", o.strict},
                   {"knife_edge_slide", o.knife_edge_slide},
+                  {"remesh", o.remesh == PipelineOptions::Remesh::always  ? "on"
+                             : o.remesh == PipelineOptions::Remesh::never ? "off"
+                                                                          : "auto"},
                   {"tetgen", tetgen_switches_for(o)},
                   {"time_limit_seconds", o.time_limit_seconds}};
   if (!o.thex_only) {
