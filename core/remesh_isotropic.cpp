@@ -236,7 +236,8 @@ class Remesher {
   }
 
   // A vertex of a feature line goes to the nearest point of the input's feature lines, any
-  // other to the nearest point of the input's triangles that face its way.
+  // other to the nearest point of the input's triangles that face its way (if none is within
+  // an edge length, it stays, and the fold test of its move decides).
   void put_on_input(VH v) {
     const Vec3 p = point(v);
     if (is_feature(v) && feature_bvh_) {
@@ -245,7 +246,9 @@ class Remesher {
     }
     const Vec3 n = vertex_normal(v);
     if (!(n.norm() > 0.5)) return;
-    const auto hit = input_bvh_.closest_point(p, [&](int t) {
+    // Within one edge length: the vertex moved less than that from the surface, and a
+    // triangle facing its way further off belongs to some other part of the surface.
+    const auto hit = input_bvh_.closest_point_within(p, length_, [&](int t) {
       return input_normals_[size_t(t)].dot(n) > kProjectFacingCos;
     });
     if (hit.triangle >= 0) mesh_.set_point(v, to_openmesh(hit.point));
