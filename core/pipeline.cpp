@@ -499,6 +499,14 @@ void remesh_if_needed(PipelineResult& result, const PipelineOptions& options, Pr
       out << "the remeshed surface failed verification (" << e.what() << "), so the input is coarsened as it is";
       return out.str();
     }
+    // It must have fewer needles and no smaller angle, or it is no better to start from.
+    const double needles_after = needle_share(remeshed);
+    if (needles_after >= needles || report.min_angle_after_deg < report.min_angle_before_deg) {
+      out << "the remeshed surface was no better (" << std::round(needles_after * 100) << "% needles, smallest angle "
+          << std::setprecision(3) << report.min_angle_before_deg << " -> " << report.min_angle_after_deg
+          << " degrees), so the input is coarsened as it is";
+      return out.str();
+    }
     result.remeshed = std::move(remeshed);
     out << report.triangles_before << " -> " << report.triangles_after << " triangles of edge " << report.edge_length
         << ", smallest angle " << std::setprecision(3) << report.min_angle_before_deg << " -> "

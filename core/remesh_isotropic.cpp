@@ -288,6 +288,7 @@ double remesh_edge_length(const TriSurface& surface, size_t max_triangles) {
   for (const auto& t : surface.triangles)
     area += triangle_area(surface.points[size_t(t[0])], surface.points[size_t(t[1])], surface.points[size_t(t[2])]);
   if (surface.triangles.empty() || !(area > 0)) return 0;
+  if (max_triangles == 0) max_triangles = std::clamp<size_t>(100 * surface.triangles.size(), 10000, 400000);
   auto equilateral_edge = [](double triangle_area) { return std::sqrt(4 * triangle_area / std::sqrt(3.0)); };
   const double mean_area_edge = equilateral_edge(area / double(surface.triangles.size()));
   const double shortest = equilateral_edge(area / double(std::max<size_t>(max_triangles, 1)));

@@ -45,14 +45,19 @@ double needle_share(const TriSurface& surface);
 constexpr double kRemeshNeedleShare = 0.005;
 
 //! The automatic edge length: that of an equilateral triangle of the input's mean area (the
-//! remeshed surface has about as many triangles as the input), but no more than the wall
-//! thickness at the thinner 5% of the vertices (so the thickness sizing can still work on
-//! thin walls), and no less than needed to stay within `max_triangles`.
-double remesh_edge_length(const TriSurface& surface, size_t max_triangles = 400000);
+//! remeshed surface has about as many triangles as the input), but no more than the inner-ball
+//! radius (half the wall thickness) at the thinner 5% of the vertices, so that the coarsening,
+//! which cannot refine, can still size thin walls by their thickness; and no less than keeps
+//! the result within `max_triangles`. 0 = automatic: 100 times the input's triangles (the
+//! README's plate needs 45), at least 10,000 and at most 400,000, so that a spike, whose tip
+//! has no thickness, does not turn a few triangles into hundreds of thousands.
+double remesh_edge_length(const TriSurface& surface, size_t max_triangles = 0);
 
 //! The remeshed surface of a verified (closed, manifold, consistently oriented) surface.
 //! Every vertex lies on the input surface, a vertex on a feature line on that line; the
-//! result keeps the orientation. The caller verifies it (a fold is possible in principle).
+//! result keeps the orientation. The caller verifies it (a fold is possible in principle) and
+//! judges it: where feature lines meet at a hair's angle (a spike's tip), even triangles are
+//! impossible and the smallest angle can get worse.
 TriSurface remesh_isotropic(const TriSurface& surface, const RemeshIsotropicOptions& options = {},
                             RemeshIsotropicReport* report = nullptr);
 

@@ -153,3 +153,29 @@ TEST(RemeshIsotropic, PipelineRemeshesANeedleRodAndMeshesItWell) {
   automatic.project = false;
   EXPECT_TRUE(run_pipeline(box, automatic, quiet).remeshed.triangles.empty());
 }
+
+TEST(RemeshIsotropic, PipelineKeepsASpikeThatRemeshingWouldMakeWorse) {
+  // A tet 1024 long on a unit corner (a fuzzer's find): 3 of its 4 triangles are needles, but
+  // its feature lines meet at 0.056 degrees at the tip, where no even triangles fit. Remeshed
+  // at the tip's thickness it became 164k triangles and coarsening them took 117 s; now the
+  // remeshing is bounded (100 times the input's triangles, at least 10,000) and a result with
+  // a smaller smallest angle is not used.
+  TriSurface spike;
+  spike.points = {Vec3(0, 0, 0), Vec3(-1024, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+  spike.triangles = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}};
+  EXPECT_GT(needle_share(spike), kRemeshNeedleShare);
+  EXPECT_GT(remesh_edge_length(spike), 0.5);  // 10,000 triangles over its area of about 1,540
+
+  const std::string path = (dthex_test::fresh_dir("spike") / "spike.off").string();
+  write_surface(spike, path);
+  Progress quiet;
+  PipelineOptions options;
+  options.project = false;
+  const PipelineResult r = run_pipeline(path, options, quiet);
+  EXPECT_TRUE(r.remeshed.triangles.empty());
+  const auto stage =
+      std::find_if(r.stages.begin(), r.stages.end(), [](const StageRecord& s) { return s.name == "remesh input"; });
+  ASSERT_NE(stage, r.stages.end());
+  EXPECT_NE(stage->detail.find("no better"), std::string::npos);
+  EXPECT_EQ(r.coarse.triangles.size(), 4u);
+}
