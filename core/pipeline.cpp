@@ -493,6 +493,11 @@ void remesh_if_needed(PipelineResult& result, const PipelineOptions& options, Pr
     TriSurface remeshed = remesh_isotropic(result.input, remesh_options, &report);
     std::ostringstream out;
     out << std::round(needles * 100) << "% needles; ";
+    if (report.gave_up) {
+      out << "the remeshing at edge " << report.edge_length
+          << " only grew the mesh (feature lines that meet at a hair's angle), so the input is coarsened as it is";
+      return out.str();
+    }
     try {
       verify_surface(remeshed, result.input_path + " (remeshed)");
     } catch (const InputError& e) {

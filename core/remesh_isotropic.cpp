@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <memory>
 
 namespace dthex {
@@ -54,15 +55,22 @@ class Remesher {
     input_normals_ = unit_triangle_normals(input.points, input.triangles);
   }
 
-  void run() {
+  // Runs the rounds; false, and stops, once the mesh has more than `most_triangles`: where
+  // feature lines converge (a spike's tip) collapses across them are refused while splits go
+  // on, and the mesh only grows.
+  bool run(size_t most_triangles) {
     for (int round = 0; round < options_.rounds; ++round) {
       split_long_edges();
       collapse_short_edges();
       flip_towards_valence_six();
       relax_tangentially();
+      const auto live = mesh_.faces();  // skips deleted faces (no garbage collection here:
+                                        // it would renumber, and change the order of the rounds)
+      if (size_t(std::distance(live.begin(), live.end())) > most_triangles) return false;
       if (options_.progress) options_.progress(double(round + 1) / options_.rounds);
     }
     mesh_.garbage_collection();
+    return true;
   }
 
   TriSurface result() const { return from_openmesh(mesh_); }
@@ -288,7 +296,7 @@ double remesh_edge_length(const TriSurface& surface, size_t max_triangles) {
   for (const auto& t : surface.triangles)
     area += triangle_area(surface.points[size_t(t[0])], surface.points[size_t(t[1])], surface.points[size_t(t[2])]);
   if (surface.triangles.empty() || !(area > 0)) return 0;
-  if (max_triangles == 0) max_triangles = std::clamp<size_t>(100 * surface.triangles.size(), 10000, 400000);
+  if (max_triangles == 0) max_triangles = std::clamp<size_t>(100 * surface.triangles.size(), 1000, 400000);
   auto equilateral_edge = [](double triangle_area) { return std::sqrt(4 * triangle_area / std::sqrt(3.0)); };
   const double mean_area_edge = equilateral_edge(area / double(surface.triangles.size()));
   const double shortest = equilateral_edge(area / double(std::max<size_t>(max_triangles, 1)));
@@ -306,10 +314,16 @@ double remesh_edge_length(const TriSurface& surface, size_t max_triangles) {
 TriSurface remesh_isotropic(const TriSurface& surface, const RemeshIsotropicOptions& options,
                             RemeshIsotropicReport* report) {
   const double length = options.edge_length > 0 ? options.edge_length : remesh_edge_length(surface);
+  double area = 0;
+  for (const auto& t : surface.triangles)
+    area += triangle_area(surface.points[size_t(t[0])], surface.points[size_t(t[1])], surface.points[size_t(t[2])]);
+  const double expected = length > 0 ? area / (std::sqrt(3.0) / 4 * length * length) : 0;
+  const size_t most = size_t(std::min(16 * expected, 4e8)) + 2 * surface.triangles.size();
   Remesher remesher(surface, options, length);
-  remesher.run();
-  TriSurface result = remesher.result();
+  const bool finished = remesher.run(most);
+  TriSurface result = finished ? remesher.result() : surface;
   if (report) {
+    report->gave_up = !finished;
     report->triangles_before = surface.triangles.size();
     report->triangles_after = result.triangles.size();
     report->edge_length = length;
