@@ -480,8 +480,9 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
 }
 
 // An input of needles (PipelineOptions::remesh) is remeshed with even triangles into
-// result.remeshed. A remeshed surface that fails verification is dropped with a message:
-// the input itself is then coarsened, as without the option.
+// result.remeshed. A remeshing that gave up, or a remeshed surface that fails verification or
+// is no better (no fewer needles, or a smaller smallest angle), is dropped with a message: the
+// input itself is then coarsened, as without the option.
 void remesh_if_needed(PipelineResult& result, const PipelineOptions& options, Progress& progress) {
   if (options.thex_only || options.remesh == PipelineOptions::Remesh::never) return;
   const double needles = needle_share(result.input);

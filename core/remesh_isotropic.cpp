@@ -27,6 +27,13 @@ using FH = OpenMesh::FaceHandle;
 
 double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) { return 0.5 * (b - a).cross(c - a).norm(); }
 
+double surface_area(const TriSurface& s) {
+  double area = 0;
+  for (const auto& t : s.triangles)
+    area += triangle_area(s.points[size_t(t[0])], s.points[size_t(t[1])], s.points[size_t(t[2])]);
+  return area;
+}
+
 double smallest_angle_deg(const TriSurface& s) {
   double smallest = 180;
   for (const auto& t : s.triangles)
@@ -166,7 +173,6 @@ class Remesher {
     }
   }
 
-
   void flip_towards_valence_six() {
     for (auto e : mesh_.edges()) {
       if (mesh_.status(e).deleted() || is_feature(e) || !mesh_.is_flip_ok(e)) continue;
@@ -292,9 +298,7 @@ double needle_share(const TriSurface& surface) {
 }
 
 double remesh_edge_length(const TriSurface& surface, size_t max_triangles) {
-  double area = 0;
-  for (const auto& t : surface.triangles)
-    area += triangle_area(surface.points[size_t(t[0])], surface.points[size_t(t[1])], surface.points[size_t(t[2])]);
+  const double area = surface_area(surface);
   if (surface.triangles.empty() || !(area > 0)) return 0;
   if (max_triangles == 0) max_triangles = std::clamp<size_t>(100 * surface.triangles.size(), 1000, 400000);
   auto equilateral_edge = [](double triangle_area) { return std::sqrt(4 * triangle_area / std::sqrt(3.0)); };
@@ -302,22 +306,18 @@ double remesh_edge_length(const TriSurface& surface, size_t max_triangles) {
   const double shortest = equilateral_edge(area / double(std::max<size_t>(max_triangles, 1)));
   // Wall thickness, where it is thinner than twice that edge: the inner ball's radius.
   const TriangleBvh bvh(surface);
-  const std::vector<double> radius =
+  std::vector<double> radius =
       inner_wall_radii(surface, bvh, std::vector<double>(surface.points.size(), mean_area_edge));
-  std::vector<double> sorted = radius;
-  const size_t k = sorted.size() / 20;
-  std::nth_element(sorted.begin(), sorted.begin() + long(k), sorted.end());
-  const double thin = sorted.empty() ? mean_area_edge : sorted[k];
+  const size_t k = radius.size() / 20;  // the thinner 5%
+  std::nth_element(radius.begin(), radius.begin() + long(k), radius.end());
+  const double thin = radius.empty() ? mean_area_edge : radius[k];
   return std::max(shortest, std::min(mean_area_edge, thin));
 }
 
 TriSurface remesh_isotropic(const TriSurface& surface, const RemeshIsotropicOptions& options,
                             RemeshIsotropicReport* report) {
   const double length = options.edge_length > 0 ? options.edge_length : remesh_edge_length(surface);
-  double area = 0;
-  for (const auto& t : surface.triangles)
-    area += triangle_area(surface.points[size_t(t[0])], surface.points[size_t(t[1])], surface.points[size_t(t[2])]);
-  const double expected = length > 0 ? area / (std::sqrt(3.0) / 4 * length * length) : 0;
+  const double expected = length > 0 ? surface_area(surface) / (std::sqrt(3.0) / 4 * length * length) : 0;
   const size_t most = size_t(std::min(16 * expected, 4e8)) + 2 * surface.triangles.size();
   Remesher remesher(surface, options, length);
   const bool finished = remesher.run(most);
