@@ -483,7 +483,8 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
 // result.remeshed. A remeshing that gave up, or a remeshed surface that fails verification or
 // is no better (no fewer needles, or a smaller smallest angle), is dropped with a message: the
 // input itself is then coarsened, as without the option.
-void remesh_if_needed(PipelineResult& result, const PipelineOptions& options, Progress& progress) {
+void remesh_if_needed(PipelineResult& result, const TriangleBvh& input_bvh, const PipelineOptions& options,
+                      Progress& progress) {
   if (options.thex_only || options.remesh == PipelineOptions::Remesh::never) return;
   const double needles = needle_share(result.input);
   if (options.remesh == PipelineOptions::Remesh::automatic && needles < kRemeshNeedleShare) return;
@@ -491,7 +492,7 @@ void remesh_if_needed(PipelineResult& result, const PipelineOptions& options, Pr
     RemeshIsotropicOptions remesh_options;
     remesh_options.progress = [&](double f) { progress.update(f); };
     RemeshIsotropicReport report;
-    TriSurface remeshed = remesh_isotropic(result.input, remesh_options, &report);
+    TriSurface remeshed = remesh_isotropic(result.input, remesh_options, &report, &input_bvh);
     std::ostringstream out;
     out << std::round(needles * 100) << "% needles; ";
     if (report.gave_up) {
@@ -543,7 +544,7 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
   const auto start = Clock::now();
   PipelineResult result = read_and_verify(input_path, progress);
   const TriangleBvh input_bvh(result.input);
-  remesh_if_needed(result, options, progress);
+  remesh_if_needed(result, input_bvh, options, progress);
   const std::unique_ptr<TriangleBvh> remeshed_bvh =
       result.remeshed.triangles.empty() ? nullptr : std::make_unique<TriangleBvh>(result.remeshed);
   const TriangleBvh& coarsening_bvh = remeshed_bvh ? *remeshed_bvh : input_bvh;

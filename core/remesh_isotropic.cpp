@@ -50,8 +50,9 @@ double smallest_angle_deg(const TriSurface& s) {
 // The remeshing state: the mesh being remeshed, and what its vertices are put back onto.
 class Remesher {
  public:
-  Remesher(const TriSurface& input, const RemeshIsotropicOptions& options, double edge_length)
-      : input_bvh_(input), options_(options), length_(edge_length) {
+  Remesher(const TriSurface& input, const TriangleBvh& input_bvh, const RemeshIsotropicOptions& options,
+           double edge_length)
+      : input_bvh_(input_bvh), options_(options), length_(edge_length) {
     mesh_ = to_openmesh(input);
     mark_features(mesh_, options.feature_angle_deg);
     // The input's feature lines as zero-area triangles (a, b, b): the tree's closest point
@@ -276,7 +277,7 @@ class Remesher {
   // feature angle): never onto the far side of a crease or a thin wall.
   static constexpr double kProjectFacingCos = 0.5;
 
-  TriangleBvh input_bvh_;
+  const TriangleBvh& input_bvh_;
   std::unique_ptr<TriangleBvh> feature_bvh_;
   std::vector<Vec3> input_normals_;
   RemeshIsotropicOptions options_;
@@ -297,7 +298,7 @@ double needle_share(const TriSurface& surface) {
   return double(needles) / double(surface.triangles.size());
 }
 
-double remesh_edge_length(const TriSurface& surface, size_t max_triangles) {
+double remesh_edge_length(const TriSurface& surface, size_t max_triangles, const TriangleBvh* surface_bvh) {
   const double area = surface_area(surface);
   if (surface.triangles.empty() || !(area > 0)) return 0;
   if (max_triangles == 0) max_triangles = std::clamp<size_t>(100 * surface.triangles.size(), 1000, 400000);
@@ -305,9 +306,10 @@ double remesh_edge_length(const TriSurface& surface, size_t max_triangles) {
   const double mean_area_edge = equilateral_edge(area / double(surface.triangles.size()));
   const double shortest = equilateral_edge(area / double(std::max<size_t>(max_triangles, 1)));
   // Wall thickness, where it is thinner than twice that edge: the inner ball's radius.
-  const TriangleBvh bvh(surface);
+  std::unique_ptr<TriangleBvh> own_bvh;
+  if (!surface_bvh) surface_bvh = (own_bvh = std::make_unique<TriangleBvh>(surface)).get();
   std::vector<double> radius =
-      inner_wall_radii(surface, bvh, std::vector<double>(surface.points.size(), mean_area_edge));
+      inner_wall_radii(surface, *surface_bvh, std::vector<double>(surface.points.size(), mean_area_edge));
   const size_t k = radius.size() / 20;  // the thinner 5%
   std::nth_element(radius.begin(), radius.begin() + long(k), radius.end());
   const double thin = radius.empty() ? mean_area_edge : radius[k];
@@ -315,11 +317,13 @@ double remesh_edge_length(const TriSurface& surface, size_t max_triangles) {
 }
 
 TriSurface remesh_isotropic(const TriSurface& surface, const RemeshIsotropicOptions& options,
-                            RemeshIsotropicReport* report) {
-  const double length = options.edge_length > 0 ? options.edge_length : remesh_edge_length(surface);
+                            RemeshIsotropicReport* report, const TriangleBvh* surface_bvh) {
+  std::unique_ptr<TriangleBvh> own_bvh;
+  if (!surface_bvh) surface_bvh = (own_bvh = std::make_unique<TriangleBvh>(surface)).get();
+  const double length = options.edge_length > 0 ? options.edge_length : remesh_edge_length(surface, 0, surface_bvh);
   const double expected = length > 0 ? surface_area(surface) / (std::sqrt(3.0) / 4 * length * length) : 0;
   const size_t most = size_t(std::min(16 * expected, 4e8)) + 2 * surface.triangles.size();
-  Remesher remesher(surface, options, length);
+  Remesher remesher(surface, *surface_bvh, options, length);
   const bool finished = remesher.run(most);
   TriSurface result = finished ? remesher.result() : surface;
   if (report) {

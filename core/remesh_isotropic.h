@@ -10,6 +10,7 @@
 // back on the input surface; feature lines keep their vertices on them, corners stay.
 #pragma once
 
+#include "core/triangle_bvh.h"
 #include "core/types.h"
 
 #include <functional>
@@ -55,14 +56,17 @@ constexpr double kRemeshNeedleShare = 0.005;
 //! the result within `max_triangles`. 0 = automatic: 100 times the input's triangles (the
 //! README's plate needs 45), at least 1,000 and at most 400,000, so that a spike, whose tip
 //! has no thickness, does not turn a few triangles into hundreds of thousands.
-double remesh_edge_length(const TriSurface& surface, size_t max_triangles = 0);
+//! `surface_bvh`, when given, is a tree over `surface` the caller already has.
+double remesh_edge_length(const TriSurface& surface, size_t max_triangles = 0,
+                          const TriangleBvh* surface_bvh = nullptr);
 
 //! The remeshed surface of a verified (closed, manifold, consistently oriented) surface.
 //! Every vertex lies on the input surface, a vertex on a feature line on that line; the
 //! result keeps the orientation. The caller verifies it (a fold is possible in principle) and
 //! judges it: where feature lines meet at a hair's angle (a spike's tip), even triangles are
 //! impossible and the smallest angle can get worse.
+//! `surface_bvh`, when given, is a tree over `surface` the caller already has (else one is built).
 TriSurface remesh_isotropic(const TriSurface& surface, const RemeshIsotropicOptions& options = {},
-                            RemeshIsotropicReport* report = nullptr);
+                            RemeshIsotropicReport* report = nullptr, const TriangleBvh* surface_bvh = nullptr);
 
 }  // namespace dthex
