@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "core/coarsen.h"
 
+#include "core/split_in_halves.h"
 #include "core/surface_mesh.h"
 #include "core/triangle_bvh.h"
 #include "core/wall_thickness.h"
@@ -15,6 +16,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <exception>
 #include <optional>
 
 #include <Eigen/Geometry>
@@ -160,7 +162,110 @@ struct RunOutput {
   TriSurface surface;
   std::vector<double> sizes;
   size_t collapses = 0, swaps = 0, moves = 0;
+  size_t cut_vertices = 0;
 };
+
+//! Counts of one decimation.
+struct DecimationCounts {
+  size_t collapses = 0, swaps = 0, moves = 0;
+};
+
+//! Decimates a mesh whose status (features, locks) and sizes are set, with the DTHex modules.
+//! `progress_total`: the collapses that count as done (0: no progress reports).
+DecimationCounts decimate_prepared(SurfaceMesh& mesh, const InputSurface& surface, const CoarsenOptions& options,
+                                   double progress_total) {
+  mesh.request_vertex_status();
+  mesh.request_edge_status();
+  mesh.request_face_status();
+  const auto size = size_property(mesh);
+  DecimationCounts out;
+  RevalidatingDecimaterT<SurfaceMesh> decimater(mesh);
+  ModCurvatureSizingT<SurfaceMesh>::Handle sizing;
+  ModNormalizedLengthT<SurfaceMesh>::Handle length;
+  ModEdgeSwapT<SurfaceMesh>::Handle swap;
+  ModLocalSmoothingT<SurfaceMesh>::Handle smoothing;
+  decimater.add(sizing);
+  decimater.module(sizing).set_compute_on_initialize(false);  // h is given
+  decimater.add(length);
+  NormalizedLengthLimits limits;
+  limits.max_normalized_length = options.max_normalized_length;
+  limits.max_normal_deviation_deg = options.max_normal_deviation_deg;
+  limits.min_shape = options.min_shape;
+  decimater.module(length).set_limits(limits);
+  if (options.max_surface_deviation_deg < 180)
+    decimater.module(length).set_surface_normal(
+        [&surface](const Point& p, Point& n) { return surface.normal_at(p, n); }, options.max_surface_deviation_deg);
+  if (options.edge_swap) {
+    decimater.add(swap);
+    EdgeSwapOptions swap_options;
+    swap_options.max_dihedral_deg = options.swap_max_dihedral_deg;
+    swap_options.max_normalized_length = options.max_normalized_length;
+    decimater.module(swap).set_options(swap_options);
+  }
+  if (options.local_smoothing) {
+    decimater.add(smoothing);
+    ModLocalSmoothingT<SurfaceMesh>::Options smooth_options;
+    smooth_options.c1 = options.smoothing_c1;
+    smooth_options.max_normal_deviation_deg = options.max_normal_deviation_deg;
+    smooth_options.max_normalized_length = options.max_normalized_length;
+    smooth_options.projection = [&surface](const Point& p, double& s) { return surface.project(p, s); };
+    decimater.module(smoothing).set_options(smooth_options);
+    // Bounds judged after the smoothing that follows each collapse (see set_placement).
+    if (options.judge_after_smoothing)
+      decimater.module(length).set_placement(
+          [&surface, smooth_options, size](const SurfaceMesh& m,
+                                           const ModNormalizedLengthT<SurfaceMesh>::CollapseInfo& ci,
+                                           Point& position, double& h) {
+            auto unprojected = smooth_options;
+            unprojected.projection = nullptr;
+            if (!smoothed_collapse_target(m, ci, unprojected, size, position, h)) return false;
+            return surface.project_facing(position, vertex_normal(m, ci.v1), position, h);
+          });
+  }
+  decimater.set_priority_estimate([&mesh, size](const ModNormalizedLengthT<SurfaceMesh>::CollapseInfo& ci) {
+    return ModNormalizedLengthT<SurfaceMesh>::priority_estimate(mesh, size, ci);
+  });
+  static const std::function<void(double)> no_progress;
+  ProgressObserver observer(progress_total > 0 ? options.progress : no_progress, progress_total);
+  decimater.set_observer(&observer);
+  if (!decimater.initialize()) throw MeshingError("coarsening: the decimater modules failed to initialize");
+  out.collapses = decimater.decimate();
+  if (options.edge_swap) out.swaps = decimater.module(swap).n_swaps();
+  if (options.local_smoothing) out.moves = decimater.module(smoothing).n_moves();
+  decimater.set_observer(nullptr);
+  return out;
+}
+
+//! Decimates `mesh` in two halves at once, one per core, then the joined mesh, which only
+//! has the cut left to remove. False (mesh untouched) if it cannot be split.
+bool decimate_in_halves(SurfaceMesh& mesh, const InputSurface& surface, const CoarsenOptions& options,
+                        DecimationCounts& counts, size_t& cut_vertices) {
+  SurfaceHalves split;
+  if (!split_in_halves(mesh, split)) return false;
+  cut_vertices = split.cut_vertices;
+  DecimationCounts half_counts[2];
+  std::exception_ptr failure[2];
+  const double total = 0.9 * double(mesh.n_vertices());
+#pragma omp parallel for num_threads(2) schedule(static, 1)
+  for (int p = 0; p < 2; ++p) {
+    try {
+      // Only the first half reports progress (the callback is not made for two threads).
+      half_counts[p] = decimate_prepared(split.halves[size_t(p)], surface, options, p == 0 ? 0.5 * total : 0);
+    } catch (...) {
+      failure[p] = std::current_exception();
+    }
+  }
+  for (const auto& f : failure)
+    if (f) std::rethrow_exception(f);
+  mesh = join_halves(split, mesh);
+  counts = decimate_prepared(mesh, surface, options, 0);
+  for (const auto& c : half_counts) {
+    counts.collapses += c.collapses;
+    counts.swaps += c.swaps;
+    counts.moves += c.moves;
+  }
+  return true;
+}
 
 RunOutput run_once(const SurfaceMesh& input_mesh, const TriSurface& input, const TriangleBvh& input_bvh,
                    const std::vector<double>& h, const std::vector<char>& locked, const CoarsenOptions& options) {
@@ -176,64 +281,17 @@ RunOutput run_once(const SurfaceMesh& input_mesh, const TriSurface& input, const
   for (auto v : mesh.vertices()) mesh.property(size, v) = h[size_t(v.idx())];
 
   const InputSurface surface(input, input_bvh, &h);
+  DecimationCounts counts;
   RunOutput out;
-  {
-    RevalidatingDecimaterT<SurfaceMesh> decimater(mesh);
-    ModCurvatureSizingT<SurfaceMesh>::Handle sizing;
-    ModNormalizedLengthT<SurfaceMesh>::Handle length;
-    ModEdgeSwapT<SurfaceMesh>::Handle swap;
-    ModLocalSmoothingT<SurfaceMesh>::Handle smoothing;
-    decimater.add(sizing);
-    decimater.module(sizing).set_compute_on_initialize(false);  // h is given
-    decimater.add(length);
-    NormalizedLengthLimits limits;
-    limits.max_normalized_length = options.max_normalized_length;
-    limits.max_normal_deviation_deg = options.max_normal_deviation_deg;
-    limits.min_shape = options.min_shape;
-    decimater.module(length).set_limits(limits);
-    if (options.max_surface_deviation_deg < 180)
-      decimater.module(length).set_surface_normal(
-          [&surface](const Point& p, Point& n) { return surface.normal_at(p, n); }, options.max_surface_deviation_deg);
-    if (options.edge_swap) {
-      decimater.add(swap);
-      EdgeSwapOptions swap_options;
-      swap_options.max_dihedral_deg = options.swap_max_dihedral_deg;
-      swap_options.max_normalized_length = options.max_normalized_length;
-      decimater.module(swap).set_options(swap_options);
-    }
-    if (options.local_smoothing) {
-      decimater.add(smoothing);
-      ModLocalSmoothingT<SurfaceMesh>::Options smooth_options;
-      smooth_options.c1 = options.smoothing_c1;
-      smooth_options.max_normal_deviation_deg = options.max_normal_deviation_deg;
-      smooth_options.max_normalized_length = options.max_normalized_length;
-      smooth_options.projection = [&surface](const Point& p, double& s) { return surface.project(p, s); };
-      decimater.module(smoothing).set_options(smooth_options);
-      // Bounds judged after the smoothing that follows each collapse (see set_placement).
-      if (options.judge_after_smoothing)
-        decimater.module(length).set_placement(
-            [&surface, smooth_options, size](const SurfaceMesh& m,
-                                             const ModNormalizedLengthT<SurfaceMesh>::CollapseInfo& ci,
-                                             Point& position, double& h) {
-              auto unprojected = smooth_options;
-              unprojected.projection = nullptr;
-              if (!smoothed_collapse_target(m, ci, unprojected, size, position, h)) return false;
-              return surface.project_facing(position, vertex_normal(m, ci.v1), position, h);
-            });
-    }
-    decimater.set_priority_estimate([&mesh, size](const ModNormalizedLengthT<SurfaceMesh>::CollapseInfo& ci) {
-      return ModNormalizedLengthT<SurfaceMesh>::priority_estimate(mesh, size, ci);
-    });
-    ProgressObserver observer(options.progress, 0.9 * double(input.points.size()));
-    decimater.set_observer(&observer);
-    if (!decimater.initialize()) throw MeshingError("coarsening: the decimater modules failed to initialize");
-    out.collapses = decimater.decimate();
-    if (options.edge_swap) out.swaps = decimater.module(swap).n_swaps();
-    if (options.local_smoothing) out.moves = decimater.module(smoothing).n_moves();
-    decimater.set_observer(nullptr);
-  }
+  const bool halves = options.split_from_vertices > 0 && mesh.n_vertices() >= options.split_from_vertices &&
+                      decimate_in_halves(mesh, surface, options, counts, out.cut_vertices);
+  if (!halves) counts = decimate_prepared(mesh, surface, options, 0.9 * double(input.points.size()));
+  out.collapses = counts.collapses;
+  out.swaps = counts.swaps;
+  out.moves = counts.moves;
+  const auto final_size = size_property(mesh);
   for (auto v : mesh.vertices())
-    if (!mesh.status(v).deleted()) out.sizes.push_back(mesh.property(size, v));
+    if (!mesh.status(v).deleted()) out.sizes.push_back(mesh.property(final_size, v));
   out.surface = from_openmesh(mesh);
   return out;
 }
@@ -356,6 +414,7 @@ CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options, co
   result.collapses = run.collapses;
   result.swaps = run.swaps;
   result.smoothing_moves = run.moves;
+  result.cut_vertices = run.cut_vertices;
 
   if (options.global_smoothing) {
     GlobalSmoothingOptions global;

@@ -46,6 +46,12 @@ struct CoarsenOptions {
   //! halved around them (the last extra run keeps the input vertices there instead); at
   //! most this many extra runs.
   int max_repair_rounds = 4;
+  //! Inputs with at least this many vertices are decimated in two halves at once, one per
+  //! core (core/split_in_halves.h), then joined and decimated once more to remove the cut;
+  //! 0 never splits. The result differs from one run over the whole (another greedy order)
+  //! but not in kind. From 4,000 vertices up it saved a fifth to a third of the time on
+  //! every mesh tried (vertebra, heart, pelvis, aneurysm, armadillo, femur: 1.3 -> 0.84 s).
+  size_t split_from_vertices = 4000;
   //! Called with a rough completed fraction in [0, 1].
   std::function<void(double)> progress;
 };
@@ -59,6 +65,8 @@ struct CoarsenResult {
   size_t global_smoothing_iterations = 0;
   size_t feature_edges = 0, feature_corners = 0;  //!< on the input
   int repair_rounds = 0;          //!< extra runs needed to remove self-intersections
+  //! Input vertices on the cut when it was decimated in two halves (0: in one run).
+  size_t cut_vertices = 0;
   size_t thin_wall_vertices = 0;  //!< input vertices whose size the wall thickness lowered
   double h_min = 0, h_max = 0;    //!< bounds actually used
   double seconds = 0;             //!< wall time of coarsen()

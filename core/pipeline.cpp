@@ -315,6 +315,8 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
       std::string detail = count_text("triangles", result.coarse.triangles.size());
       if (coarse.thin_wall_vertices)
         detail += " (" + count_text("input vertices", coarse.thin_wall_vertices) + " sized by wall thickness)";
+      if (coarse.cut_vertices)
+        detail += ", in two halves at once (cut through " + count_text("vertices", coarse.cut_vertices) + ")";
       return detail + prepare_coarse_surface(result.coarse, options);
     });
     timed_stage(result, progress, "verify coarse", [&] {

@@ -1,0 +1,142 @@
+// SPDX-License-Identifier: MIT
+#include "core/split_in_halves.h"
+
+#include "core/coarsen.h"
+#include "core/features.h"
+#include "core/quality.h"
+#include "core/read_surface.h"
+#include "core/surface_mesh.h"
+#include "core/verify_surface.h"
+
+#include "DThexGeometry.hh"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+using namespace dthex;
+
+namespace {
+
+TriSurface load(const std::string& name) { return read_surface(std::string(DTHEX_SOURCE_DIR) + "/meshes/" + name); }
+
+//! The input as the coarsening prepares it: features marked, a size per vertex (its index,
+//! so a size that lands on the wrong vertex is seen).
+SurfaceMesh prepared(const TriSurface& surface) {
+  SurfaceMesh mesh = to_openmesh(surface);
+  mark_features(mesh);
+  OpenMesh::VPropHandleT<double> size;
+  mesh.add_property(size, size_property_name());
+  for (auto v : mesh.vertices()) mesh.property(size, v) = double(v.idx());
+  return mesh;
+}
+
+//! Each triangle as its vertex triple rotated to start at the smallest (orientation kept).
+std::multiset<std::array<int, 3>> triangle_set(const TriSurface& s) {
+  std::multiset<std::array<int, 3>> out;
+  for (auto t : s.triangles) {
+    std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+    out.insert(t);
+  }
+  return out;
+}
+
+}  // namespace
+
+// The halves hold every triangle once, split near the middle, each an open manifold
+// surface (OpenMesh holds it) whose boundary is exactly the locked cut; statuses and sizes
+// travel with their vertices; joined untouched, they give the whole mesh back.
+TEST(SplitInHalves, HalvesCoverTheMeshMeetOnALockedCutAndJoinBack) {
+  for (const char* name : {"femur_proximal_ct.off", "heart.off", "vertebra_L1.off"}) {
+    SCOPED_TRACE(name);
+    const TriSurface surface = load(name);
+    const SurfaceMesh whole = prepared(surface);
+    SurfaceHalves split;
+    ASSERT_TRUE(split_in_halves(whole, split));
+    const size_t f0 = split.halves[0].n_faces(), f1 = split.halves[1].n_faces();
+    EXPECT_EQ(f0 + f1, whole.n_faces());
+    EXPECT_GT(f0, whole.n_faces() * 2 / 5);
+    EXPECT_GT(f1, whole.n_faces() * 2 / 5);
+    EXPECT_GT(split.cut_vertices, 0u);
+
+    std::vector<int> in_halves(whole.n_vertices(), 0);
+    for (int p = 0; p < 2; ++p) {
+      const SurfaceMesh& half = split.halves[size_t(p)];
+      OpenMesh::VPropHandleT<double> size;
+      ASSERT_TRUE(half.get_property_handle(size, size_property_name()));
+      size_t boundary = 0;
+      for (auto v : half.vertices()) {
+        const SurfaceMesh::VertexHandle w(split.whole_vertex[size_t(p)][size_t(v.idx())]);
+        ++in_halves[size_t(w.idx())];
+        EXPECT_EQ(half.point(v), whole.point(w));
+        EXPECT_EQ(half.property(size, v), double(w.idx()));
+        EXPECT_EQ(half.status(v).feature(), whole.status(w).feature());
+        if (half.is_boundary(v)) {
+          ++boundary;
+          EXPECT_TRUE(half.status(v).locked()) << "cut vertex " << w.idx() << " is not locked";
+        } else {
+          EXPECT_EQ(half.status(v).locked(), whole.status(w).locked());
+        }
+      }
+      EXPECT_EQ(boundary, split.cut_vertices);
+      for (auto e : half.edges()) {
+        const auto h = half.halfedge_handle(e, 0);
+        const auto wh = whole.find_halfedge(
+            SurfaceMesh::VertexHandle(split.whole_vertex[size_t(p)][size_t(half.from_vertex_handle(h).idx())]),
+            SurfaceMesh::VertexHandle(split.whole_vertex[size_t(p)][size_t(half.to_vertex_handle(h).idx())]));
+        ASSERT_TRUE(wh.is_valid());
+        EXPECT_EQ(half.status(e).feature(), whole.status(whole.edge_handle(wh)).feature());
+      }
+    }
+    // Every vertex is in a half; exactly the cut is in both.
+    EXPECT_EQ(size_t(std::count(in_halves.begin(), in_halves.end(), 0)), 0u);
+    EXPECT_EQ(size_t(std::count(in_halves.begin(), in_halves.end(), 2)), split.cut_vertices);
+
+    const SurfaceMesh joined = join_halves(split, whole);
+    const TriSurface back = from_openmesh(joined);
+    EXPECT_EQ(back.points, surface.points);
+    EXPECT_EQ(triangle_set(back), triangle_set(surface));
+    OpenMesh::VPropHandleT<double> size;
+    ASSERT_TRUE(joined.get_property_handle(size, size_property_name()));
+    for (auto v : joined.vertices()) {
+      EXPECT_EQ(joined.property(size, v), double(v.idx()));
+      EXPECT_EQ(joined.status(v).locked(), whole.status(v).locked());  // the cut's locks are gone
+    }
+  }
+}
+
+TEST(SplitInHalves, NothingToSplitIsRefused) {
+  SurfaceHalves split;
+  EXPECT_FALSE(split_in_halves(SurfaceMesh(), split));
+}
+
+// Coarsened in two halves at once, then joined and coarsened again: a valid closed surface
+// like the one run over the whole, of nearly the same size. Without the last pass the cut
+// would stay at the input's resolution (hundreds of extra triangles on these meshes).
+TEST(SplitInHalves, CoarseningInHalvesMatchesOneRun) {
+  for (const char* name : {"femur_proximal_ct.off", "heart.off"}) {
+    SCOPED_TRACE(name);
+    const TriSurface input = load(name);
+    CoarsenOptions halves, whole;
+    whole.split_from_vertices = 0;
+    const CoarsenResult a = coarsen(input, halves), b = coarsen(input, whole);
+    EXPECT_GT(a.cut_vertices, 100u);
+    EXPECT_EQ(b.cut_vertices, 0u);
+    // Closed, manifold, oriented, not self-intersecting (verify_surface throws otherwise),
+    // no unused vertex, the input's genus and orientation.
+    TriSurface coarse = a.surface, given = input;
+    SurfaceStats stats;
+    ASSERT_NO_THROW(stats = verify_surface(coarse, name));
+    EXPECT_EQ(stats.genus, 0);
+    EXPECT_EQ(stats.components, 1u);
+    EXPECT_EQ(stats.unreferenced_vertices, 0u);
+    EXPECT_EQ(stats.flipped_components, verify_surface(given, name).flipped_components);
+    const double na = double(a.surface.triangles.size()), nb = double(b.surface.triangles.size());
+    EXPECT_LT(std::abs(na - nb), 0.05 * nb) << na << " triangles in halves, " << nb << " in one run";
+    double worst = 1;
+    for (double s : triangle_shapes(a.surface)) worst = std::min(worst, s);
+    EXPECT_GE(worst, 0.2);
+  }
+}
