@@ -269,12 +269,12 @@ bool decimate_in_halves(SurfaceMesh& mesh, const InputSurface& surface, const Co
 
 RunOutput run_once(const SurfaceMesh& input_mesh, const TriSurface& input, const TriangleBvh& input_bvh,
                    const std::vector<double>& h, const std::vector<char>& locked, const CoarsenOptions& options) {
+  // The copy keeps the input's feature and corner marks (coarsen() made them).
   SurfaceMesh mesh = input_mesh;
   // Status must be requested by the app, not only by the decimater (notes section 1).
   mesh.request_vertex_status();
   mesh.request_edge_status();
   mesh.request_face_status();
-  mark_features(mesh, options.feature_angle_deg);
   for (auto v : mesh.vertices())
     if (locked[size_t(v.idx())]) mesh.status(v).set_locked(true);
   const auto size = size_property(mesh);
@@ -357,7 +357,8 @@ CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options, co
 
   // Sizing field and features on the input.
   SurfaceMesh input_mesh = to_openmesh(input);
-  mark_features(input_mesh, options.feature_angle_deg);  // sizing follows feature lines, not creases
+  // The sizing follows feature lines, not creases; every run starts from a copy with these marks.
+  const Features features = mark_features(input_mesh, options.feature_angle_deg);
   const CurvatureSizingOptions sizing = sizing_options(options);
   std::tie(result.h_min, result.h_max) = sizing_bounds(input_mesh, sizing);
   std::vector<double> h = curvature_sizing(input_mesh, sizing);
@@ -367,7 +368,6 @@ CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options, co
   if (options.max_size_per_thickness > 0)
     result.thin_wall_vertices = cap_by_wall_thickness(input, input_mesh, input_bvh, options.max_size_per_thickness,
                                                       options.gradation, result.h_min, true, h);
-  const Features features = detect_features(input, options.feature_angle_deg);
   result.feature_edges = features.edges.size();
   result.feature_corners = features.corners.size();
 

@@ -53,7 +53,7 @@ class Remesher {
   Remesher(const TriSurface& input, const TriangleBvh& input_bvh, const RemeshIsotropicOptions& options,
            double edge_length)
       : input_bvh_(input_bvh), options_(options), length_(edge_length) {
-    mesh_ = to_openmesh(input);
+    fill_openmesh(mesh_, input);  // not mesh_ = to_openmesh(input): that copies it
     mark_features(mesh_, options.feature_angle_deg);
     // The input's feature lines as zero-area triangles (a, b, b): the tree's closest point
     // on them is the closest point on the segments.

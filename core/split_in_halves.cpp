@@ -42,6 +42,7 @@ bool make_fans_whole(const SurfaceMesh& mesh, std::vector<char>& side, int max_s
 }  // namespace
 
 bool split_in_halves(const SurfaceMesh& whole, SurfaceHalves& out) {
+  out = SurfaceHalves();
   const size_t n_faces = whole.n_faces(), n_vertices = whole.n_vertices();
   if (n_faces < 2) return false;
   Eigen::AlignedBox3d box;
@@ -74,11 +75,13 @@ bool split_in_halves(const SurfaceMesh& whole, SurfaceHalves& out) {
 
   OpenMesh::VPropHandleT<double> whole_size;
   const bool with_sizes = whole.get_property_handle(whole_size, size_property_name());
-  std::vector<int> local(n_vertices);
+  // The two halves are built at the same time (OpenMesh's face insertion is most of it).
+  bool built[2] = {false, false};
+#pragma omp parallel for num_threads(2) schedule(static, 1)
   for (int p = 0; p < 2; ++p) {
+    std::vector<int> local(n_vertices, -1);
     std::vector<int>& whole_vertex = out.whole_vertex[size_t(p)];
     whole_vertex.clear();
-    std::fill(local.begin(), local.end(), -1);
     TriSurface part;
     for (auto f : whole.faces()) {
       if (side[size_t(f.idx())] != p) continue;
@@ -97,9 +100,9 @@ bool split_in_halves(const SurfaceMesh& whole, SurfaceHalves& out) {
     }
     SurfaceMesh& half = out.halves[size_t(p)];
     try {
-      half = to_openmesh(part);
+      fill_openmesh(half, part);
     } catch (const InputError&) {
-      return false;
+      continue;  // built[p] stays false
     }
     OpenMesh::VPropHandleT<double> size;
     if (with_sizes) half.add_property(size, size_property_name());
@@ -115,8 +118,9 @@ bool split_in_halves(const SurfaceMesh& whole, SurfaceHalves& out) {
       const VertexHandle b(whole_vertex[size_t(half.to_vertex_handle(h).idx())]);
       half.status(e).set_feature(whole.status(whole.edge_handle(whole.find_halfedge(a, b))).feature());
     }
+    built[p] = true;
   }
-  return true;
+  return built[0] && built[1];
 }
 
 SurfaceMesh join_halves(const SurfaceHalves& in, const SurfaceMesh& whole) {
@@ -161,7 +165,7 @@ SurfaceMesh join_halves(const SurfaceHalves& in, const SurfaceMesh& whole) {
   }
   SurfaceMesh mesh;
   try {
-    mesh = to_openmesh(surface);
+    fill_openmesh(mesh, surface);
   } catch (const InputError& e) {
     throw MeshingError(std::string("joining the coarsened halves: ") + e.what());
   }

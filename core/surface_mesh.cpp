@@ -5,6 +5,11 @@ namespace dthex {
 
 SurfaceMesh to_openmesh(const TriSurface& surface) {
   SurfaceMesh mesh;
+  fill_openmesh(mesh, surface);
+  return mesh;
+}
+
+void fill_openmesh(SurfaceMesh& mesh, const TriSurface& surface) {
   std::vector<SurfaceMesh::VertexHandle> handles;
   handles.reserve(surface.points.size());
   for (const Vec3& p : surface.points) handles.push_back(mesh.add_vertex(to_openmesh(p)));
@@ -15,7 +20,6 @@ SurfaceMesh to_openmesh(const TriSurface& surface) {
       throw InputError("triangle " + std::to_string(f) + " cannot be added to a manifold mesh");
   }
   mesh.update_normals();
-  return mesh;
 }
 
 TriSurface from_openmesh(const SurfaceMesh& mesh) {

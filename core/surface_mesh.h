@@ -24,6 +24,9 @@ using SurfaceMesh = OpenMesh::TriMesh_ArrayKernelT<SurfaceTraits>;
 //! Builds an OpenMesh mesh from a verified (closed, manifold) surface.
 //! Throws InputError if OpenMesh refuses a face (it should not on a verified surface).
 SurfaceMesh to_openmesh(const TriSurface& surface);
+//! As to_openmesh(), into an empty `mesh`: OpenMesh 9's meshes have no move assignment, so
+//! `existing = to_openmesh(s)` copies the whole mesh once more.
+void fill_openmesh(SurfaceMesh& mesh, const TriSurface& surface);
 //! Copies the live (non-deleted) vertices and faces, compacting indices.
 TriSurface from_openmesh(const SurfaceMesh& mesh);
 
