@@ -119,9 +119,13 @@ std::vector<std::array<int, 4>> boundary_quads(const HexMesh& mesh, std::vector<
 
 std::vector<char> boundary_nodes(const HexMesh& mesh, const std::vector<char>* known) {
   if (known && known->size() == mesh.nodes.size()) return *known;
+  return boundary_nodes_of_quads(mesh, boundary_quads(mesh));
+}
+
+std::vector<char> boundary_nodes_of_quads(const HexMesh& mesh, const std::vector<std::array<int, 4>>& quads) {
   std::vector<char> on_boundary(mesh.nodes.size(), 0);
   for (size_t v = 0; v < mesh.nodes.size(); ++v) on_boundary[v] = mesh.is_boundary_node(int(v));
-  for (const auto& quad : boundary_quads(mesh))
+  for (const auto& quad : quads)
     for (int v : quad) on_boundary[size_t(v)] = 1;
   return on_boundary;
 }

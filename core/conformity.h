@@ -59,5 +59,7 @@ std::vector<std::array<int, 4>> boundary_quads(const HexMesh& mesh, std::vector<
 //! With `known` (such a vector computed earlier for the same topology): a copy of it, unless
 //! its size is not the mesh's node count, in which case they are found again.
 std::vector<char> boundary_nodes(const HexMesh& mesh, const std::vector<char>* known = nullptr);
+//! The same from the mesh's boundary_quads(), when the caller has them.
+std::vector<char> boundary_nodes_of_quads(const HexMesh& mesh, const std::vector<std::array<int, 4>>& quads);
 
 }  // namespace dthex

@@ -359,11 +359,14 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
   if (!options.thex_only && options.project) {
     // Before projection moves them: the nodes that lie on the coarse surface's feature lines.
     const std::vector<char> feature_nodes = nodes_on_feature_edges(result.hexes, result.coarse);
-    // The topology is final: the boundary nodes, found once for the untangler and smoothers.
-    const std::vector<char> on_boundary = boundary_nodes(result.hexes);
+    // The topology is final: the boundary quads and nodes, found once for the projection, the
+    // untangler and the smoothers (each search sorts every hex face).
+    const std::vector<std::array<int, 4>> quads_after_dicing = boundary_quads(result.hexes);
+    const std::vector<char> on_boundary = boundary_nodes_of_quads(result.hexes, quads_after_dicing);
     timed_stage(result, progress, "project", [&] {
       ProjectOptions project_options;
       project_options.held_nodes = &feature_nodes;  // the relaxation leaves them on their feature lines
+      project_options.boundary_quads = &quads_after_dicing;
       const ProjectReport report =
           project_boundary(result.hexes, result.coarse, result.input, input_bvh, project_options);
       std::ostringstream out;

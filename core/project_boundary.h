@@ -6,6 +6,7 @@
 #include "core/triangle_bvh.h"
 #include "core/types.h"
 
+#include <array>
 #include <vector>
 
 namespace dthex {
@@ -39,6 +40,8 @@ struct ProjectOptions {
   //! 0.152 after 1 round, 0.144 after 5; aneurysm 0.241 and 0.282).
   int relax_rounds = 3;
   const std::vector<char>* held_nodes = nullptr;
+  //! Optional: boundary_quads(mesh) (conformity.h), if the caller has them, for the relaxation.
+  const std::vector<std::array<int, 4>>* boundary_quads = nullptr;
 };
 
 struct ProjectReport {

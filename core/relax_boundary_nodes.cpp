@@ -16,7 +16,9 @@ RelaxBoundaryReport relax_boundary_nodes(HexMesh& mesh, const TriSurface& coarse
   // Boundary-quad edges: the neighbours a node is averaged with. Nodes named on no coarse
   // facet (or on one the coarse surface lacks) are left alone.
   std::vector<std::vector<int>> neighbours(n);
-  for (const auto& q : boundary_quads(mesh))
+  std::vector<std::array<int, 4>> found;
+  if (!options.boundary_quads) found = boundary_quads(mesh);
+  for (const auto& q : options.boundary_quads ? *options.boundary_quads : found)
     for (int i = 0; i < 4; ++i) {
       const int a = q[size_t(i)], b = q[size_t((i + 1) % 4)];
       neighbours[size_t(a)].push_back(b);

@@ -14,6 +14,7 @@
 #include "core/triangle_bvh.h"
 #include "core/types.h"
 
+#include <array>
 #include <vector>
 
 namespace dthex {
@@ -26,6 +27,8 @@ struct RelaxBoundaryOptions {
   //! A move is refused where the surface normal at the landing point turns by more than
   //! this from the normal where the node stands: a node does not cross a feature line.
   double max_normal_turn_deg = kDefaultFeatureAngleDeg;
+  //! Optional: boundary_quads(mesh) (conformity.h), if the caller has them; found here otherwise.
+  const std::vector<std::array<int, 4>>* boundary_quads = nullptr;
 };
 
 struct RelaxBoundaryReport {

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "core/relax_boundary_nodes.h"
+#include "core/conformity.h"
 
 #include "boundary_fixtures.h"
 
@@ -87,4 +88,34 @@ TEST(RelaxBoundaryNodes, HeldNodesStay) {
   EXPECT_EQ(cube.mesh.nodes[size_t(v)], pushed);
   EXPECT_EQ(report.held, 1u);
   EXPECT_GT(report.moves, 0u);  // its neighbours still move toward it
+}
+
+TEST(RelaxBoundaryNodes, GivenQuadsAreUsedAsFound) {
+  // The caller's boundary quads (the pipeline finds them once) move the nodes exactly as the
+  // ones found here; an empty list gives every node no neighbour, so nothing moves.
+  Cube found, given, none;
+  for (Cube* cube : {&found, &given, &none}) {
+    const int v = cube->node_at(Vec3(0.5, 0.5, 1.0));
+    ASSERT_GE(v, 0);
+    cube->mesh.nodes[size_t(v)] += Vec3(0.06, 0.035, 0.0);
+  }
+  const TriangleBvh bvh(found.fine);
+  std::vector<Vec3> displacement(found.mesh.nodes.size(), Vec3::Zero());
+  const RelaxBoundaryReport by_itself = relax_boundary_nodes(found.mesh, found.coarse, bvh, {}, displacement);
+
+  const std::vector<std::array<int, 4>> quads = boundary_quads(given.mesh);
+  RelaxBoundaryOptions options;
+  options.boundary_quads = &quads;
+  std::fill(displacement.begin(), displacement.end(), Vec3::Zero());
+  const RelaxBoundaryReport with_quads =
+      relax_boundary_nodes(given.mesh, given.coarse, bvh, {}, displacement, options);
+  EXPECT_GT(by_itself.moves, 0u);
+  EXPECT_EQ(with_quads.moves, by_itself.moves);
+  EXPECT_EQ(given.mesh.nodes, found.mesh.nodes);
+
+  const std::vector<std::array<int, 4>> no_quads;
+  options.boundary_quads = &no_quads;
+  const std::vector<Vec3> before = none.mesh.nodes;
+  EXPECT_EQ(relax_boundary_nodes(none.mesh, none.coarse, bvh, {}, displacement, options).moves, 0u);
+  EXPECT_EQ(none.mesh.nodes, before);
 }
