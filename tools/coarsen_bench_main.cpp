@@ -2,8 +2,9 @@
 // Benchmark of the DTHex coarsening: the paper's Table I (triangle shape of the input and
 // after eps 0.01, 0.1, 0.5), Table II (local vs global smoothing at eps 0.01 and 0.05) and
 // coarsening time against OpenMesh's ModQuadricT decimating to the same vertex count.
-// Usage: coarsen_bench [--only EPS] MESH.off [MESH2.off ...]
-//        (--only: one coarsening per mesh at EPS, timing only, for profiling)
+// Usage: coarsen_bench [--only EPS] [--split-from N] MESH.off [MESH2.off ...]
+//        (--only: one coarsening per mesh at EPS, timing only, for profiling;
+//         --split-from: CoarsenOptions::split_from_vertices, 0 = never in two halves)
 #include "core/coarsen.h"
 #include "core/quality.h"
 #include "core/read_surface.h"
@@ -48,9 +49,14 @@ int main(int argc, char** argv) {
     return 2;
   }
   double only = 0;
+  size_t split_from = dthex::CoarsenOptions().split_from_vertices;
   for (int i = 1; i < argc; ++i) {
     if (std::string(argv[i]) == "--only" && i + 1 < argc) {
       only = std::stod(argv[++i]);
+      continue;
+    }
+    if (std::string(argv[i]) == "--split-from" && i + 1 < argc) {
+      split_from = size_t(std::stoul(argv[++i]));
       continue;
     }
     try {
@@ -58,13 +64,15 @@ int main(int argc, char** argv) {
         const dthex::TriSurface input = load(argv[i]);
         dthex::CoarsenOptions options;
         options.eps = only;
+        options.split_from_vertices = split_from;
         const double c0 = cpu_seconds();
         const auto r = dthex::coarsen(input, options);
         const double cpu = cpu_seconds() - c0;
         std::printf("%s eps %g: %zu -> %zu vertices, %zu collapses, %zu swaps, %zu moves, %d repairs, "
-                    "%.3f s wall, %.3f s CPU, %zu feature edges, %zu corners\n",
+                    "%.3f s wall, %.3f s CPU, %zu feature edges, %zu corners, %zu cut vertices\n",
                     argv[i], only, input.points.size(), r.surface.points.size(), r.collapses, r.swaps,
-                    r.smoothing_moves, r.repair_rounds, r.seconds, cpu, r.feature_edges, r.feature_corners);
+                    r.smoothing_moves, r.repair_rounds, r.seconds, cpu, r.feature_edges, r.feature_corners,
+                    r.cut_vertices);
         continue;
       }
       const dthex::TriSurface input = load(argv[i]);
@@ -77,6 +85,7 @@ int main(int argc, char** argv) {
       for (double eps : {0.01, 0.1, 0.5}) {
         dthex::CoarsenOptions options;
         options.eps = eps;
+        options.split_from_vertices = split_from;
         const double c0 = cpu_seconds();
         const auto r = dthex::coarsen(input, options);
         const double cpu = cpu_seconds() - c0;
@@ -91,6 +100,7 @@ int main(int argc, char** argv) {
         for (bool global : {false, true}) {
           dthex::CoarsenOptions options;
           options.eps = eps;
+          options.split_from_vertices = split_from;
           options.local_smoothing = !global;
           options.global_smoothing = global;
           const double c0 = cpu_seconds();
