@@ -140,3 +140,36 @@ TEST(SplitInHalves, CoarseningInHalvesMatchesOneRun) {
     EXPECT_GE(worst, 0.2);
   }
 }
+
+// Two bodies side by side along their longest extent: the median plane falls between them,
+// so the halves share no vertex (an empty cut) and each body is coarsened whole on its core.
+TEST(SplitInHalves, TwoSeparateBodiesAreCutBetweenThem) {
+  const TriSurface heart = load("heart.off");
+  Eigen::AlignedBox3d box;
+  for (const Vec3& p : heart.points) box.extend(p);
+  int axis = 0;
+  const double shift = 2 * box.sizes().maxCoeff(&axis);
+  TriSurface two = heart;
+  const int n = int(heart.points.size());
+  for (Vec3 p : heart.points) {
+    p[axis] += shift;
+    two.points.push_back(p);
+  }
+  for (const auto& t : heart.triangles) two.triangles.push_back({t[0] + n, t[1] + n, t[2] + n});
+
+  SurfaceHalves split;
+  ASSERT_TRUE(split_in_halves(prepared(two), split));
+  EXPECT_EQ(split.cut_vertices, 0u);
+  EXPECT_EQ(split.halves[0].n_faces(), heart.triangles.size());
+  EXPECT_EQ(split.halves[1].n_faces(), heart.triangles.size());
+
+  const CoarsenResult both = coarsen(two);
+  CoarsenOptions whole;
+  whole.split_from_vertices = 0;
+  const double one = double(coarsen(heart, whole).surface.triangles.size());
+  TriSurface coarse = both.surface;
+  SurfaceStats stats;
+  ASSERT_NO_THROW(stats = verify_surface(coarse, "two hearts"));
+  EXPECT_EQ(stats.components, 2u);
+  EXPECT_LT(std::abs(double(both.surface.triangles.size()) - 2 * one), 0.05 * 2 * one);
+}
