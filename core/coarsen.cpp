@@ -236,16 +236,18 @@ DecimationCounts decimate_prepared(SurfaceMesh& mesh, const InputSurface& surfac
   return out;
 }
 
-//! Decimates `mesh` in two halves at once, one per core, then the joined mesh, which only
-//! has the cut left to remove. False (mesh untouched) if it cannot be split.
-bool decimate_in_halves(SurfaceMesh& mesh, const InputSurface& surface, const CoarsenOptions& options,
-                        DecimationCounts& counts, size_t& cut_vertices) {
+//! Decimates `whole` in two halves at once, one per core, then the joined mesh, which only
+//! has the cut left to remove; the result goes to `joined`. False if it cannot be split.
+//! `whole` itself is not copied: the run's sizes and locks travel in `extras`.
+bool decimate_in_halves(const SurfaceMesh& whole, const SplitExtras& extras, const InputSurface& surface,
+                        const CoarsenOptions& options, SurfaceMesh& joined, DecimationCounts& counts,
+                        size_t& cut_vertices) {
   SurfaceHalves split;
-  if (!split_in_halves(mesh, split)) return false;
+  if (!split_in_halves(whole, split, extras)) return false;
   cut_vertices = split.cut_vertices;
   DecimationCounts half_counts[2];
   std::exception_ptr failure[2];
-  const double total = 0.9 * double(mesh.n_vertices());
+  const double total = 0.9 * double(whole.n_vertices());
 #pragma omp parallel for num_threads(2) schedule(static, 1)
   for (int p = 0; p < 2; ++p) {
     try {
@@ -257,8 +259,8 @@ bool decimate_in_halves(SurfaceMesh& mesh, const InputSurface& surface, const Co
   }
   for (const auto& f : failure)
     if (f) std::rethrow_exception(f);
-  mesh = join_halves(split, mesh);
-  counts = decimate_prepared(mesh, surface, options, 0);
+  joined = join_halves(split, whole, extras);
+  counts = decimate_prepared(joined, surface, options, 0);
   for (const auto& c : half_counts) {
     counts.collapses += c.collapses;
     counts.swaps += c.swaps;
@@ -269,23 +271,26 @@ bool decimate_in_halves(SurfaceMesh& mesh, const InputSurface& surface, const Co
 
 RunOutput run_once(const SurfaceMesh& input_mesh, const TriSurface& input, const TriangleBvh& input_bvh,
                    const std::vector<double>& h, const std::vector<char>& locked, const CoarsenOptions& options) {
-  // The copy keeps the input's feature and corner marks (coarsen() made them).
-  SurfaceMesh mesh = input_mesh;
-  // Status must be requested by the app, not only by the decimater (notes section 1).
-  mesh.request_vertex_status();
-  mesh.request_edge_status();
-  mesh.request_face_status();
-  for (auto v : mesh.vertices())
-    if (locked[size_t(v.idx())]) mesh.status(v).set_locked(true);
-  const auto size = size_property(mesh);
-  for (auto v : mesh.vertices()) mesh.property(size, v) = h[size_t(v.idx())];
-
   const InputSurface surface(input, input_bvh, &h);
   DecimationCounts counts;
   RunOutput out;
-  const bool halves = options.split_from_vertices > 0 && mesh.n_vertices() >= options.split_from_vertices &&
-                      decimate_in_halves(mesh, surface, options, counts, out.cut_vertices);
-  if (!halves) counts = decimate_prepared(mesh, surface, options, 0.9 * double(input.points.size()));
+  SurfaceMesh mesh;
+  const bool halves =
+      options.split_from_vertices > 0 && input_mesh.n_vertices() >= options.split_from_vertices &&
+      decimate_in_halves(input_mesh, SplitExtras{&h, &locked}, surface, options, mesh, counts, out.cut_vertices);
+  if (!halves) {
+    // The copy keeps the input's feature and corner marks (coarsen() made them).
+    mesh = input_mesh;
+    // Status must be requested by the app, not only by the decimater (notes section 1).
+    mesh.request_vertex_status();
+    mesh.request_edge_status();
+    mesh.request_face_status();
+    for (auto v : mesh.vertices())
+      if (locked[size_t(v.idx())]) mesh.status(v).set_locked(true);
+    const auto size = size_property(mesh);
+    for (auto v : mesh.vertices()) mesh.property(size, v) = h[size_t(v.idx())];
+    counts = decimate_prepared(mesh, surface, options, 0.9 * double(input.points.size()));
+  }
   out.collapses = counts.collapses;
   out.swaps = counts.swaps;
   out.moves = counts.moves;

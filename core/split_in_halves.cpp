@@ -41,7 +41,7 @@ bool make_fans_whole(const SurfaceMesh& mesh, std::vector<char>& side, int max_s
 
 }  // namespace
 
-bool split_in_halves(const SurfaceMesh& whole, SurfaceHalves& out) {
+bool split_in_halves(const SurfaceMesh& whole, SurfaceHalves& out, const SplitExtras& extras) {
   out = SurfaceHalves();
   const size_t n_faces = whole.n_faces(), n_vertices = whole.n_vertices();
   if (n_faces < 2) return false;
@@ -74,7 +74,10 @@ bool split_in_halves(const SurfaceMesh& whole, SurfaceHalves& out) {
   out.cut_vertices = size_t(std::count(cut.begin(), cut.end(), 1));
 
   OpenMesh::VPropHandleT<double> whole_size;
-  const bool with_sizes = whole.get_property_handle(whole_size, size_property_name());
+  const bool own_sizes = whole.get_property_handle(whole_size, size_property_name());
+  const bool given_sizes = extras.sizes && extras.sizes->size() == n_vertices;
+  const bool with_sizes = own_sizes || given_sizes;
+  const bool given_locks = extras.locked && extras.locked->size() == n_vertices;
   // The two halves are built at the same time (OpenMesh's face insertion is most of it).
   bool built[2] = {false, false};
 #pragma omp parallel for num_threads(2) schedule(static, 1)
@@ -109,8 +112,10 @@ bool split_in_halves(const SurfaceMesh& whole, SurfaceHalves& out) {
     for (auto v : half.vertices()) {
       const VertexHandle w(whole_vertex[size_t(v.idx())]);
       half.status(v).set_feature(whole.status(w).feature());
-      half.status(v).set_locked(whole.status(w).locked() || cut[size_t(w.idx())]);
-      if (with_sizes) half.property(size, v) = whole.property(whole_size, w);
+      const bool extra_lock = given_locks && (*extras.locked)[size_t(w.idx())];
+      half.status(v).set_locked(whole.status(w).locked() || extra_lock || cut[size_t(w.idx())]);
+      if (with_sizes)
+        half.property(size, v) = given_sizes ? (*extras.sizes)[size_t(w.idx())] : whole.property(whole_size, w);
     }
     for (auto e : half.edges()) {
       const auto h = half.halfedge_handle(e, 0);
@@ -123,10 +128,11 @@ bool split_in_halves(const SurfaceMesh& whole, SurfaceHalves& out) {
   return built[0] && built[1];
 }
 
-SurfaceMesh join_halves(const SurfaceHalves& in, const SurfaceMesh& whole) {
+SurfaceMesh join_halves(const SurfaceHalves& in, const SurfaceMesh& whole, const SplitExtras& extras) {
   const size_t n_vertices = whole.n_vertices();
-  OpenMesh::VPropHandleT<double> whole_size;
-  const bool with_sizes = whole.get_property_handle(whole_size, size_property_name());
+  OpenMesh::VPropHandleT<double> half_size;
+  const bool with_sizes = in.halves[0].get_property_handle(half_size, size_property_name());
+  const bool given_locks = extras.locked && extras.locked->size() == n_vertices;
   // Where each whole vertex is now and its size; a cut vertex is in both halves, unmoved.
   std::vector<OpenMesh::Vec3d> position(n_vertices);
   std::vector<double> size_of(n_vertices, 0);
@@ -176,7 +182,7 @@ SurfaceMesh join_halves(const SurfaceHalves& in, const SurfaceMesh& whole) {
     const VertexHandle v(joined[w]);
     const auto& status = whole.status(VertexHandle(int(w)));
     mesh.status(v).set_feature(status.feature());
-    mesh.status(v).set_locked(status.locked());
+    mesh.status(v).set_locked(status.locked() || (given_locks && (*extras.locked)[w]));
     if (with_sizes) mesh.property(size, v) = size_of[w];
   }
   for (int p = 0; p < 2; ++p) {

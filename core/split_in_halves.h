@@ -19,18 +19,26 @@ struct SurfaceHalves {
   size_t cut_vertices = 0;
 };
 
+//! What a split carries over besides `whole`'s own status bits and sizes: per vertex of
+//! `whole`, sizes that replace its "v:dthex_size" property, and extra locks. With them the
+//! caller need not copy a big `whole` to set them (the coarsening's repair rounds do).
+struct SplitExtras {
+  const std::vector<double>* sizes = nullptr;
+  const std::vector<char>* locked = nullptr;
+};
+
 //! Splits `whole` by the plane across its longest extent through the median triangle
 //! centroid. Where a vertex's triangles on one side would form two separate fans (a
 //! mesh OpenMesh cannot hold), all its triangles go to the side that has most of them.
-//! Status bits (feature, locked) and the "v:dthex_size" property, if `whole` has it, are
-//! copied; the vertices on the cut are locked in both halves. False, with `halves` left
-//! unspecified, if no such split exists (e.g. a side ends up empty).
-bool split_in_halves(const SurfaceMesh& whole, SurfaceHalves& halves);
+//! Status bits (feature, locked) and the "v:dthex_size" property, if `whole` has it (or
+//! `extras`' sizes), are copied; the vertices on the cut are locked in both halves. False,
+//! with `halves` left unspecified, if no such split exists (e.g. a side ends up empty).
+bool split_in_halves(const SurfaceMesh& whole, SurfaceHalves& halves, const SplitExtras& extras = {});
 
 //! The live triangles of both halves as one mesh, vertices in the order of `whole` (the
-//! deleted ones left out). Vertex status comes from `whole` (the cut's locks are dropped),
-//! edge status and sizes from the halves. Throws MeshingError if the halves no longer
-//! fit together (they do whenever no cut vertex moved or was removed).
-SurfaceMesh join_halves(const SurfaceHalves& halves, const SurfaceMesh& whole);
+//! deleted ones left out). Vertex status comes from `whole` and `extras`' locks (the cut's
+//! locks are dropped), edge status and sizes from the halves. Throws MeshingError if the
+//! halves no longer fit together (they do whenever no cut vertex moved or was removed).
+SurfaceMesh join_halves(const SurfaceHalves& halves, const SurfaceMesh& whole, const SplitExtras& extras = {});
 
 }  // namespace dthex
