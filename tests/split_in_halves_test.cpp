@@ -173,3 +173,36 @@ TEST(SplitInHalves, TwoSeparateBodiesAreCutBetweenThem) {
   EXPECT_EQ(stats.components, 2u);
   EXPECT_LT(std::abs(double(both.surface.triangles.size()) - 2 * one), 0.05 * 2 * one);
 }
+
+// The coarsening's repair rounds pass their sizes and extra locks instead of copying the mesh:
+// the halves carry them, and the joined mesh keeps the extra locks but not the cut's.
+TEST(SplitInHalves, GivenSizesAndLocksTravelWithTheirVertices) {
+  const SurfaceMesh whole = prepared(load("heart.off"));
+  std::vector<double> sizes(whole.n_vertices());
+  std::vector<char> locked(whole.n_vertices(), 0);
+  for (size_t v = 0; v < sizes.size(); ++v) {
+    sizes[v] = 1000.0 + double(v);
+    locked[v] = v % 7 == 0;
+  }
+  const SplitExtras extras{&sizes, &locked};
+  SurfaceHalves split;
+  ASSERT_TRUE(split_in_halves(whole, split, extras));
+  for (int p = 0; p < 2; ++p) {
+    const SurfaceMesh& half = split.halves[size_t(p)];
+    OpenMesh::VPropHandleT<double> size;
+    ASSERT_TRUE(half.get_property_handle(size, size_property_name()));
+    for (auto v : half.vertices()) {
+      const size_t w = size_t(split.whole_vertex[size_t(p)][size_t(v.idx())]);
+      EXPECT_EQ(half.property(size, v), sizes[w]);
+      if (locked[w]) EXPECT_TRUE(half.status(v).locked()) << "vertex " << w;
+    }
+  }
+  const SurfaceMesh joined = join_halves(split, whole, extras);
+  ASSERT_EQ(joined.n_vertices(), whole.n_vertices());
+  OpenMesh::VPropHandleT<double> size;
+  ASSERT_TRUE(joined.get_property_handle(size, size_property_name()));
+  for (auto v : joined.vertices()) {
+    EXPECT_EQ(joined.property(size, v), sizes[size_t(v.idx())]);
+    EXPECT_EQ(joined.status(v).locked(), whole.status(v).locked() || locked[size_t(v.idx())]);
+  }
+}
