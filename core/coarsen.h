@@ -65,7 +65,8 @@ struct CoarsenResult {
   size_t global_smoothing_iterations = 0;
   size_t feature_edges = 0, feature_corners = 0;  //!< on the input
   int repair_rounds = 0;          //!< extra runs needed to remove self-intersections
-  //! Input vertices on the cut when it was decimated in two halves (0: in one run).
+  //! Input vertices on the cut when it was decimated in two halves (0: in one run, or split
+  //! between separate bodies, which leaves no cut).
   size_t cut_vertices = 0;
   size_t thin_wall_vertices = 0;  //!< input vertices whose size the wall thickness lowered
   double h_min = 0, h_max = 0;    //!< bounds actually used

@@ -141,9 +141,10 @@ TEST(SplitInHalves, CoarseningInHalvesMatchesOneRun) {
   }
 }
 
-// Two bodies side by side along their longest extent: the median plane falls between them,
-// so the halves share no vertex (an empty cut) and each body is coarsened whole on its core.
-TEST(SplitInHalves, TwoSeparateBodiesAreCutBetweenThem) {
+namespace {
+
+//! The heart and a copy of it beside it along its longest extent, twice its length away.
+TriSurface two_hearts() {
   const TriSurface heart = load("heart.off");
   Eigen::AlignedBox3d box;
   for (const Vec3& p : heart.points) box.extend(p);
@@ -156,17 +157,35 @@ TEST(SplitInHalves, TwoSeparateBodiesAreCutBetweenThem) {
     two.points.push_back(p);
   }
   for (const auto& t : heart.triangles) two.triangles.push_back({t[0] + n, t[1] + n, t[2] + n});
+  return two;
+}
 
+}  // namespace
+
+// Two bodies side by side: the median plane falls between them, so the halves share no
+// vertex (an empty cut), each holds one body, and they join back into both.
+TEST(SplitInHalves, TwoSeparateBodiesAreCutBetweenThem) {
+  const TriSurface two = two_hearts();
+  const SurfaceMesh whole = prepared(two);
   SurfaceHalves split;
-  ASSERT_TRUE(split_in_halves(prepared(two), split));
+  ASSERT_TRUE(split_in_halves(whole, split));
   EXPECT_EQ(split.cut_vertices, 0u);
-  EXPECT_EQ(split.halves[0].n_faces(), heart.triangles.size());
-  EXPECT_EQ(split.halves[1].n_faces(), heart.triangles.size());
+  EXPECT_EQ(split.halves[0].n_faces(), two.triangles.size() / 2);
+  EXPECT_EQ(split.halves[1].n_faces(), two.triangles.size() / 2);
+  const TriSurface back = from_openmesh(join_halves(split, whole));
+  EXPECT_EQ(back.points, two.points);
+  EXPECT_EQ(triangle_set(back), triangle_set(two));
+}
 
+// Coarsened in halves, each body is coarsened whole on its core: two valid bodies of about
+// the size of one body coarsened on its own, twice.
+TEST(SplitInHalves, TwoSeparateBodiesCoarsenedInHalvesStayTwo) {
+  const TriSurface two = two_hearts();
   const CoarsenResult both = coarsen(two);
+  EXPECT_EQ(both.cut_vertices, 0u);
   CoarsenOptions whole;
   whole.split_from_vertices = 0;
-  const double one = double(coarsen(heart, whole).surface.triangles.size());
+  const double one = double(coarsen(load("heart.off"), whole).surface.triangles.size());
   TriSurface coarse = both.surface;
   SurfaceStats stats;
   ASSERT_NO_THROW(stats = verify_surface(coarse, "two hearts"));
