@@ -78,12 +78,14 @@ inline double frame_energy(const Eigen::Matrix3d& jac, double eps, double theta,
 }
 
 //! Limited-memory BFGS with Armijo backtracking. `f(z, grad)` returns the energy, or +inf
-//! for a point that must not be entered. Returns the number of iterations done.
+//! for a point that must not be entered. Returns the number of iterations done;
+//! `start_energy` is f at the given z (the caller needs it, and need not evaluate it again).
 template <class Energy>
-int minimize_lbfgs(Eigen::VectorXd& z, Energy&& f, int max_iterations, Clock::time_point deadline, bool& timed_out) {
+int minimize_lbfgs(Eigen::VectorXd& z, Energy&& f, int max_iterations, Clock::time_point deadline, bool& timed_out,
+                   double& start_energy) {
   const int memory = 8;
   Eigen::VectorXd g(z.size()), g_new(z.size()), z_new(z.size()), d(z.size());
-  double fz = f(z, g);
+  double fz = start_energy = f(z, g);
   if (!std::isfinite(fz)) return 0;
   std::deque<Eigen::VectorXd> s_hist, y_hist;
   std::deque<double> rho_hist;
@@ -453,21 +455,26 @@ class Untangler {
         const double e = evaluate(ph, zz, &g, eps, &dm);
         return keep_valid && dm <= 0 ? kInf : e;
       };
-      const double e_prev = evaluate(ph, z, nullptr, eps, &detmin);
+      // detmin is where z stands: the energy refuses no start, and its first value is the
+      // round's starting energy (the same evaluation, not repeated).
       const double detmin_before = detmin;
       bool timed_out = false;
-      minimize_lbfgs(z, energy, max_iterations, deadline_, timed_out);
+      double e_prev = kInf;
+      minimize_lbfgs(z, energy, max_iterations, deadline_, timed_out, e_prev);
+      if (!std::isfinite(e_prev)) e_prev = evaluate(ph, z, nullptr, eps, &detmin);  // z did not move
       apply(ph, z);
       if (any_sliding) {
         reproject(ph);
         rebase(ph);
         z.setZero();
       }
-      const double e = evaluate(ph, z, nullptr, eps, &detmin);
       if (timed_out) {
         ph.timed_out = true;
         break;
       }
+      // What follows only steers the next round.
+      if (round + 1 == max_rounds) break;
+      const double e = evaluate(ph, z, nullptr, eps, &detmin);
       const double sigma = std::max(1.0 - e / e_prev, 0.1);
       const double mu = (1.0 - sigma) * chi(detmin, eps);
       // Garanzha's schedule while something is inverted; once every frame is valid the
