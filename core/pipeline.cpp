@@ -246,7 +246,8 @@ std::string tetgen_switches_for(const PipelineOptions& options) {
   return options.thex_only ? kThexTetgenSwitches : kDthexTetgenSwitches;
 }
 
-PipelineResult read_and_verify(const std::string& input_path, Progress& progress) {
+PipelineResult read_and_verify(const std::string& input_path, Progress& progress,
+                               std::unique_ptr<TriangleBvh>* search_tree) {
   PipelineResult result;
   result.input_path = input_path;
   timed_stage(result, progress, "read", [&] {
@@ -254,7 +255,9 @@ PipelineResult read_and_verify(const std::string& input_path, Progress& progress
     return count_text("triangles", result.input.triangles.size());
   });
   timed_stage(result, progress, "verify", [&] {
-    result.input_summary = summarize_surface(verify_surface(result.input, input_path));
+    VerifyOptions verify_options;
+    verify_options.search_tree = search_tree;
+    result.input_summary = summarize_surface(verify_surface(result.input, input_path, verify_options));
     std::ostringstream out;
     out << result.input_summary.components << " component(s), genus " << result.input_summary.genus;
     if (result.input_summary.flipped_components) out << ", orientation flipped";
@@ -547,8 +550,10 @@ std::string min_sj_text(const PipelineResult& r) {
 
 PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions& options, Progress& progress) {
   const auto start = Clock::now();
-  PipelineResult result = read_and_verify(input_path, progress);
-  const TriangleBvh input_bvh(result.input);
+  std::unique_ptr<TriangleBvh> input_tree;
+  PipelineResult result = read_and_verify(input_path, progress, &input_tree);
+  if (!input_tree) input_tree = std::make_unique<TriangleBvh>(result.input);
+  const TriangleBvh& input_bvh = *input_tree;
   remesh_if_needed(result, input_bvh, options, progress);
   const std::unique_ptr<TriangleBvh> remeshed_bvh =
       result.remeshed.triangles.empty() ? nullptr : std::make_unique<TriangleBvh>(result.remeshed);

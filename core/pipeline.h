@@ -7,8 +7,10 @@
 #include "core/local_smooth.h"
 #include "core/progress.h"
 #include "core/quality.h"
+#include "core/triangle_bvh.h"
 #include "core/types.h"
 
+#include <memory>
 #include <string>
 
 namespace dthex {
@@ -111,8 +113,10 @@ constexpr const char* kDthexTetgenSwitches = "pq1.5Y";
 //! The switches a run uses: the given ones, else the method's default above.
 std::string tetgen_switches_for(const PipelineOptions& options);
 
-//! Reads and verifies only (InputError on a bad surface).
-PipelineResult read_and_verify(const std::string& input_path, Progress& progress);
+//! Reads and verifies only (InputError on a bad surface). `search_tree`, if given, receives
+//! the verification's search tree over result.input when it still fits (VerifyOptions).
+PipelineResult read_and_verify(const std::string& input_path, Progress& progress,
+                               std::unique_ptr<TriangleBvh>* search_tree = nullptr);
 
 //! Runs every stage. Throws InputError (bad input) or MeshingError (a stage failed).
 PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions& options, Progress& progress);

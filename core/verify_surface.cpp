@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numeric>
 #include <sstream>
 
@@ -264,8 +265,10 @@ SurfaceStats verify_surface(TriSurface& surface, const std::string& name, const 
     components_uf.unite(e1.triangle, e2.triangle);
   }
   // 9. self-intersections
+  std::unique_ptr<TriangleBvh> tree;
   if (options.check_self_intersections) {
-    const TriangleBvh bvh(surface);
+    tree = std::make_unique<TriangleBvh>(surface);
+    const TriangleBvh& bvh = *tree;
     size_t found = 0;
     std::pair<int, int> first{-1, -1};
     bvh.for_each_overlapping_pair([&](int a, int b) {
@@ -419,6 +422,9 @@ SurfaceStats verify_surface(TriSurface& surface, const std::string& name, const 
   for (const Vec3& p : surface.points) stats.bounds.extend(p);
   stats.bbox_diagonal = stats.bounds.diagonal().norm();
   stats.triangle_shape = summarize(triangle_shapes(surface));
+  // A flip reverses triangles the tree holds copies of, a removal renumbers vertices.
+  if (options.search_tree && tree && stats.flipped_components == 0 && stats.unreferenced_vertices == 0)
+    *options.search_tree = std::move(tree);
   return stats;
 }
 

@@ -6,9 +6,11 @@
 #pragma once
 
 #include "core/quality.h"
+#include "core/triangle_bvh.h"
 #include "core/types.h"
 
 #include <Eigen/Geometry>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,6 +18,10 @@ namespace dthex {
 
 struct VerifyOptions {
   bool check_self_intersections = true;
+  //! Optional: receives the self-intersection check's search tree when it still fits the
+  //! verified surface (no component flipped, no vertex removed), so that a caller who needs
+  //! one does not build it again (0.9 s at 1.2M triangles); left empty otherwise.
+  std::unique_ptr<TriangleBvh>* search_tree = nullptr;
 };
 
 struct SurfaceStats {

@@ -8,12 +8,15 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <regex>
 
 using dthex::InputError;
 using dthex::SurfaceStats;
 using dthex::TriSurface;
+using dthex::TriangleBvh;
 using dthex::Vec3;
+using dthex::VerifyOptions;
 using dthex::verify_surface;
 
 namespace {
@@ -252,6 +255,38 @@ TEST(VerifySurface, CubeWithCavity) {
   EXPECT_EQ(island.components, 3u);
   EXPECT_EQ(island.cavities, 1u);
   EXPECT_NEAR(island.volume, 64.0 - 8.0 + 1.0, 1e-12);
+}
+
+TEST(VerifySurface, HandsOverItsSearchTreeOnlyWhileItFits) {
+  std::unique_ptr<TriangleBvh> tree;
+  VerifyOptions options;
+  options.search_tree = &tree;
+  // Verified as given: the tree is over exactly the verified points and triangles.
+  TriSurface outward = cube(3.0);
+  verify_surface(outward, "outward", options);
+  ASSERT_TRUE(tree);
+  EXPECT_EQ(tree->triangles(), outward.triangles);
+  EXPECT_EQ(tree->points(), outward.points);
+  EXPECT_NEAR(tree->closest_point(Vec3(1, 1, -2)).distance_sq, 4.0, 1e-12);
+  // Flipped after the check: the tree's triangles face the other way, so none is given.
+  TriSurface inward = cube(3.0);
+  flip(inward);
+  tree.reset();
+  verify_surface(inward, "inward", options);
+  EXPECT_FALSE(tree);
+  // A vertex removed after the check renumbers the others: none either.
+  TriSurface spare = cube(3.0);
+  spare.points.insert(spare.points.begin(), Vec3(9, 9, 9));
+  for (auto& t : spare.triangles)
+    for (int& v : t) ++v;
+  verify_surface(spare, "spare", options);
+  EXPECT_EQ(spare.points.size(), 8u);
+  EXPECT_FALSE(tree);
+  // No check, no tree.
+  options.check_self_intersections = false;
+  TriSurface unchecked = cube(3.0);
+  verify_surface(unchecked, "unchecked", options);
+  EXPECT_FALSE(tree);
 }
 
 TEST(VerifySurface, TorusHasGenusOne) {
