@@ -33,22 +33,37 @@ bool same_face(const FaceUse& a, const FaceUse& b) {
   return a.key[0] == b.key[0] && a.key[1] == b.key[1] && a.key[2] == b.key[2] && a.key[3] == b.key[3];
 }
 
+//! Below this many hexes the face sort stays on one thread: waking threads costs more.
+constexpr long kParallelHexes = 20000;
+
+//! Sorts four ids in place (a five-comparator network: cheaper than std::sort on four).
+void sort4(std::array<int, 4>& k) {
+  auto order = [&](size_t i, size_t j) {
+    if (k[j] < k[i]) std::swap(k[i], k[j]);
+  };
+  order(0, 1), order(2, 3), order(0, 2), order(1, 3), order(1, 2);
+}
+
 // Every hex face once per hex that uses it, in face_use_less order. A counting sort on the
-// smallest node id first leaves only short runs (the faces around one node) to sort.
+// smallest node id first leaves only short runs (the faces around one node) to sort. The
+// keys and the runs are made on all cores: the order is total (the item breaks ties), so
+// the result does not depend on the thread count.
 std::vector<FaceUse> sorted_face_uses(const HexMesh& mesh) {
-  std::vector<FaceUse> uses(6 * mesh.hexes.size());
+  const long hexes = long(mesh.hexes.size());
+  std::vector<FaceUse> uses(6 * size_t(hexes));
   int max_node = -1;
-  for (size_t h = 0; h < mesh.hexes.size(); ++h)
+  bool negative = false;
+#pragma omp parallel for schedule(static) reduction(max : max_node) reduction(|| : negative) if (hexes > kParallelHexes)
+  for (long h = 0; h < hexes; ++h)
     for (int f = 0; f < 6; ++f) {
-      auto& u = uses[6 * h + size_t(f)];
-      for (int k = 0; k < 4; ++k) u.key[size_t(k)] = mesh.hexes[h][size_t(kHexFaces[f][k])];
-      std::sort(u.key.begin(), u.key.end());
+      auto& u = uses[6 * size_t(h) + size_t(f)];
+      for (int k = 0; k < 4; ++k) u.key[size_t(k)] = mesh.hexes[size_t(h)][size_t(kHexFaces[f][k])];
+      sort4(u.key);
       u.item = int(6 * h) + f;
       max_node = std::max(max_node, u.key[3]);
+      negative = negative || u.key[0] < 0;
     }
-  const bool ids_in_range = max_node < int(mesh.nodes.size()) &&
-                            std::none_of(uses.begin(), uses.end(), [](const FaceUse& u) { return u.key[0] < 0; });
-  if (!ids_in_range) {  // a broken mesh under test: plain sort, no buckets
+  if (negative || max_node >= int(mesh.nodes.size())) {  // a broken mesh under test: plain sort, no buckets
     std::sort(uses.begin(), uses.end(), face_use_less);
     return uses;
   }
@@ -58,9 +73,11 @@ std::vector<FaceUse> sorted_face_uses(const HexMesh& mesh) {
   std::vector<FaceUse> sorted(uses.size());
   std::vector<size_t> next(start.begin(), start.end() - 1);
   for (const auto& u : uses) sorted[next[size_t(u.key[0])]++] = u;  // items stay ascending
-  for (size_t b = 0; b + 1 < start.size(); ++b)
-    if (start[b + 1] - start[b] > 1)
-      std::sort(sorted.begin() + long(start[b]), sorted.begin() + long(start[b + 1]), face_use_less);
+  const long buckets = long(start.size()) - 1;
+#pragma omp parallel for schedule(dynamic, 1024) if (hexes > kParallelHexes)
+  for (long b = 0; b < buckets; ++b)
+    if (start[size_t(b) + 1] - start[size_t(b)] > 1)
+      std::sort(sorted.begin() + long(start[size_t(b)]), sorted.begin() + long(start[size_t(b) + 1]), face_use_less);
   return sorted;
 }
 
