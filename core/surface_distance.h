@@ -19,7 +19,8 @@ struct SurfaceDistance {
 TriSurface quads_to_triangles(const std::vector<Vec3>& nodes, const std::vector<std::array<int, 4>>& quads);
 
 //! Two-sided distance between surfaces a and b, sampled at vertices, edge midpoints
-//! and triangle centroids, measured exactly to the other surface's triangles.
+//! and triangle centroids, measured exactly to the other surface's triangles. b must be
+//! closed and consistently oriented (the verified input): its edges are sampled once each.
 SurfaceDistance surface_distance(const TriSurface& a, const TriangleBvh& a_bvh, const TriSurface& b,
                                  const TriangleBvh& b_bvh);
 

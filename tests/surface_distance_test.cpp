@@ -34,3 +34,23 @@ TEST(SurfaceDistance, HausdorffOfTwoCubesIsTheirFarCorners) {
   EXPECT_GT(d.mean, 0.0);
   EXPECT_LT(d.mean, d.hausdorff);
 }
+
+// Inside a cube the distance to its surface peaks where a point is nearest the centre. A flat
+// tetrahedron whose two opposite edges pass 0.05 below and above the centre is farthest from
+// the cube (0.95) at those edges' midpoints; its vertices are at 0.1 and its centroids at
+// 0.7. Each of its edges is sampled once, from one of its two triangles, and both midpoints
+// must still be among the samples.
+TEST(SurfaceDistance, FindsTheFarthestPointAtAnEdgeMidpointOfTheInput) {
+  const TriSurface cube = box_surface(Vec3(-1, -1, -1), Vec3(1, 1, 1), 1);
+  TriSurface tet;
+  tet.points = {Vec3(-0.9, 0, -0.05), Vec3(0.9, 0, -0.05), Vec3(0, -0.9, 0.05), Vec3(0, 0.9, 0.05)};
+  tet.triangles = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}};
+  ASSERT_GT(enclosed_volume(tet), 0.0);  // outward, so every edge runs once each way
+  const TriangleBvh cube_bvh(cube), tet_bvh(tet);
+  const SurfaceDistance d = surface_distance(cube, cube_bvh, tet, tet_bvh);
+  EXPECT_NEAR(d.from_input_max, 0.95, 1e-12);
+  // And the other way: the cube's corners are farthest from the tetrahedron.
+  double corner = 0;
+  for (const Vec3& p : cube.points) corner = std::max(corner, std::sqrt(tet_bvh.closest_point(p).distance_sq));
+  EXPECT_NEAR(d.to_input_max, corner, 1e-12);
+}
