@@ -4,6 +4,7 @@
 #include "DThexGeometry.hh"
 
 #include <algorithm>
+#include <exception>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -78,10 +79,8 @@ bool split_in_halves(const SurfaceMesh& whole, SurfaceHalves& out, const SplitEx
   const bool given_sizes = extras.sizes && extras.sizes->size() == n_vertices;
   const bool with_sizes = own_sizes || given_sizes;
   const bool given_locks = extras.locked && extras.locked->size() == n_vertices;
-  // The two halves are built at the same time (OpenMesh's face insertion is most of it).
-  bool built[2] = {false, false};
-#pragma omp parallel for num_threads(2) schedule(static, 1)
-  for (int p = 0; p < 2; ++p) {
+  // One half; false if its triangles do not make an OpenMesh mesh.
+  auto build_half = [&](int p) {
     std::vector<int> local(n_vertices, -1);
     std::vector<int>& whole_vertex = out.whole_vertex[size_t(p)];
     whole_vertex.clear();
@@ -105,7 +104,7 @@ bool split_in_halves(const SurfaceMesh& whole, SurfaceHalves& out, const SplitEx
     try {
       fill_openmesh(half, part);
     } catch (const InputError&) {
-      continue;  // built[p] stays false
+      return false;
     }
     OpenMesh::VPropHandleT<double> size;
     if (with_sizes) half.add_property(size, size_property_name());
@@ -123,8 +122,23 @@ bool split_in_halves(const SurfaceMesh& whole, SurfaceHalves& out, const SplitEx
       const VertexHandle b(whole_vertex[size_t(half.to_vertex_handle(h).idx())]);
       half.status(e).set_feature(whole.status(whole.edge_handle(whole.find_halfedge(a, b))).feature());
     }
-    built[p] = true;
+    return true;
+  };
+  // The two halves are built at the same time (OpenMesh's face insertion is most of it). An
+  // exception must not leave the parallel region (out of memory there ended the program):
+  // each half's is carried out and thrown after it.
+  bool built[2] = {false, false};
+  std::exception_ptr failure[2];
+#pragma omp parallel for num_threads(2) schedule(static, 1)
+  for (int p = 0; p < 2; ++p) {
+    try {
+      built[p] = build_half(p);
+    } catch (...) {
+      failure[size_t(p)] = std::current_exception();
+    }
   }
+  for (const auto& f : failure)
+    if (f) std::rethrow_exception(f);
   return built[0] && built[1];
 }
 
