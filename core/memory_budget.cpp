@@ -33,9 +33,14 @@ uint64_t meminfo_available() {
   return found ? available + swap_free : 0;
 }
 
-std::string gigabytes(uint64_t bytes) {
+// Bytes as a person reads them: MB below a gigabyte (under a tight ulimit -v the message said
+// "needs about 0.0 GB of memory, but only 0.0 GB are available"), GB from there on.
+std::string memory_text(uint64_t bytes) {
   char text[32];
-  std::snprintf(text, sizeof text, "%.1f GB", double(bytes) / 1e9);
+  if (bytes < uint64_t(1000000000))
+    std::snprintf(text, sizeof text, "%.0f MB", double(bytes) / 1e6);
+  else
+    std::snprintf(text, sizeof text, "%.1f GB", double(bytes) / 1e9);
   return text;
 }
 
@@ -69,8 +74,8 @@ uint64_t available_memory_bytes() {
 void check_memory_budget(const std::string& name, const std::string& what, uint64_t bytes_needed) {
   const uint64_t available = available_memory_bytes();
   if (bytes_needed <= available) return;
-  throw InputError(name + ": " + what + " needs about " + gigabytes(bytes_needed) + " of memory, but only " +
-                   gigabytes(available) + " are available");
+  throw InputError(name + ": " + what + " needs about " + memory_text(bytes_needed) + " of memory, but only " +
+                   memory_text(available) + " are available");
 }
 
 }  // namespace dthex
