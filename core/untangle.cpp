@@ -52,30 +52,41 @@ constexpr int kCornerFrames[8][4] = {{0, 1, 3, 4}, {1, 2, 0, 5}, {2, 3, 1, 6}, {
 constexpr double kCentreFrame[3][8] = {{-1, 1, 1, -1, -1, 1, 1, -1}, {-1, -1, 1, 1, -1, -1, 1, 1},
                                        {-1, -1, -1, -1, 1, 1, 1, 1}};
 
-//! Garanzha's per-frame energy (1 - theta) |J|^2 / chi^(2/3) + theta (1 + det^2) / chi, and
-//! its gradient with respect to J when `gradient` is given.
-inline double frame_energy(const Eigen::Matrix3d& jac, double eps, double theta, Eigen::Matrix3d* gradient,
-                           double& det) {
-  Eigen::Matrix3d cof;
-  cof.col(0) = jac.col(1).cross(jac.col(2));
-  cof.col(1) = jac.col(2).cross(jac.col(0));
-  cof.col(2) = jac.col(0).cross(jac.col(1));
-  det = jac.col(0).dot(cof.col(0));
-  const double root = std::sqrt(eps * eps + det * det);
-  const double c = det > 0 ? 0.5 * (det + root) : 0.5 * eps * eps / (root - det);  // chi(det, eps)
-  const double inv_c = 1.0 / c;
-  const double frob = jac.squaredNorm();
-  const double inv_cube_root = inverse_cube_root(c);
-  const double c23 = inv_cube_root * inv_cube_root;  // c^(-2/3)
-  const double energy = (1 - theta) * frob * c23 + theta * (1 + det * det) * inv_c;
-  if (gradient) {
-    const double dc = c / root;  // d chi / d det
-    const double d_det = -(2.0 / 3.0) * (1 - theta) * frob * c23 * inv_c * dc +
-                         theta * (2 * det * inv_c - (1 + det * det) * dc * inv_c * inv_c);
-    *gradient = (2 * (1 - theta) * c23) * jac + d_det * cof;
+//! Garanzha's per-frame energy (1 - theta) |J|^2 / chi^(2/3) + theta (1 + det^2) / chi for
+//! the (up to 9) frames of one hex, and its gradient with respect to each J, which is
+//! jac_weight J + det_weight cof(J).
+struct FrameBatch {
+  int count = 0;
+  int frame[9];  //!< corner frame 0-7, or 8 for the centre frame
+  Eigen::Matrix3d jac[9], cof[9];
+  double det[9], energy[9], jac_weight[9], det_weight[9];
+
+  void evaluate(double eps, double theta, bool need_gradient) {
+    double frob[9];
+    for (int f = 0; f < count; ++f) {
+      const Eigen::Matrix3d& j = jac[f];
+      cof[f].col(0) = j.col(1).cross(j.col(2));
+      cof[f].col(1) = j.col(2).cross(j.col(0));
+      cof[f].col(2) = j.col(0).cross(j.col(1));
+      det[f] = j.col(0).dot(cof[f].col(0));
+      frob[f] = j.squaredNorm();
+    }
+    for (int f = 0; f < count; ++f) {
+      const double d = det[f];
+      const double root = std::sqrt(eps * eps + d * d);
+      const double c = d > 0 ? 0.5 * (d + root) : 0.5 * eps * eps / (root - d);  // chi(det, eps)
+      const double inv_c = 1.0 / c;
+      const double inv_cube_root = inverse_cube_root(c);
+      const double c23 = inv_cube_root * inv_cube_root;  // c^(-2/3)
+      energy[f] = (1 - theta) * frob[f] * c23 + theta * (1 + d * d) * inv_c;
+      if (!need_gradient) continue;
+      const double dc = c / root;  // d chi / d det
+      det_weight[f] = -(2.0 / 3.0) * (1 - theta) * frob[f] * c23 * inv_c * dc +
+                      theta * (2 * d * inv_c - (1 + d * d) * dc * inv_c * inv_c);
+      jac_weight[f] = 2 * (1 - theta) * c23;
+    }
   }
-  return energy;
-}
+};
 
 //! Limited-memory BFGS with Armijo backtracking. `f(z, grad)` returns the energy, or +inf
 //! for a point that must not be entered. Returns the number of iterations done;
@@ -574,33 +585,47 @@ class Untangler {
         const double inv_size = 1.0 / hex_size_[ph.active_hexes[size_t(a)]];
         std::array<Vec3, 8> x, g;
         for (size_t j = 0; j < 8; ++j) x[j] = pos_[size_t(hex[j])], g[j].setZero();
-        Eigen::Matrix3d jac, dj;
+        // All frames of the hex first, then their energies: each frame's energy is a long
+        // chain (determinant, root, cube root, divisions), and frames side by side let the
+        // processor run the chains of several at once. Same values, same order of the sums.
+        FrameBatch batch;
         for (int k = 0; k < 8; ++k) {
           if (!(mask & (1u << k))) continue;
           const int* c = kCornerFrames[k];
+          Eigen::Matrix3d& jac = batch.jac[batch.count];
           for (int i = 0; i < 3; ++i) jac.col(i) = (x[size_t(c[i + 1])] - x[size_t(c[0])]) * inv_size;
-          double det = 0;
-          total += frame_energy(jac, eps, theta, grad ? &dj : nullptr, det);
-          dmin = std::min(dmin, det);
-          if (!grad) continue;
-          for (int i = 0; i < 3; ++i) {
-            const Vec3 gi = dj.col(i) * inv_size;
-            g[size_t(c[i + 1])] += gi;
-            g[size_t(c[0])] -= gi;
-          }
+          batch.frame[batch.count++] = k;
         }
         if (mask & (1u << 8)) {
+          Eigen::Matrix3d& jac = batch.jac[batch.count];
           jac.setZero();
           for (size_t j = 0; j < 8; ++j)
             for (int i = 0; i < 3; ++i) jac.col(i) += kCentreFrame[i][j] * x[j];
           jac *= 0.25 * inv_size;
-          double det = 0;
-          total += frame_energy(jac, eps, theta, grad ? &dj : nullptr, det);
-          dmin = std::min(dmin, det);
-          if (grad)
-            for (size_t j = 0; j < 8; ++j)
-              g[j] += (0.25 * inv_size) * (kCentreFrame[0][j] * dj.col(0) + kCentreFrame[1][j] * dj.col(1) +
-                                           kCentreFrame[2][j] * dj.col(2));
+          batch.frame[batch.count++] = 8;
+        }
+        batch.evaluate(eps, theta, grad != nullptr);
+        for (int f = 0; f < batch.count; ++f) {
+          total += batch.energy[f];
+          dmin = std::min(dmin, batch.det[f]);
+        }
+        if (grad) {
+          for (int f = 0; f < batch.count; ++f) {
+            const Eigen::Matrix3d dj = batch.jac_weight[f] * batch.jac[f] + batch.det_weight[f] * batch.cof[f];
+            const int k = batch.frame[f];
+            if (k < 8) {
+              const int* c = kCornerFrames[k];
+              for (int i = 0; i < 3; ++i) {
+                const Vec3 gi = dj.col(i) * inv_size;
+                g[size_t(c[i + 1])] += gi;
+                g[size_t(c[0])] -= gi;
+              }
+            } else {
+              for (size_t j = 0; j < 8; ++j)
+                g[j] += (0.25 * inv_size) * (kCentreFrame[0][j] * dj.col(0) + kCentreFrame[1][j] * dj.col(1) +
+                                             kCentreFrame[2][j] * dj.col(2));
+            }
+          }
         }
         if (grad)
           for (size_t j = 0; j < 8; ++j) ph.hex_gradient[size_t(a) * 8 + j] = g[j];
