@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "core/quality.h"
 
+#include "core/inverse_cube_root.h"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -36,112 +38,111 @@ double tet_shape(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3)
   return num / den;
 }
 
-double hex_shape(const std::array<Vec3, 8>& x) {
-  // Verdict: min over corners of 3 alpha^(2/3) / |J|_F^2. That is monotone in
-  // t = alpha / |J|_F^3, so the minimum is taken over t and the cube root (pow was the
-  // optimizer's hottest call) is taken once.
-  double worst_t = std::numeric_limits<double>::max();
-  for (const auto& k : kHexCorners) {
-    const Vec3 e1 = x[size_t(k[1])] - x[size_t(k[0])];
-    const Vec3 e2 = x[size_t(k[2])] - x[size_t(k[0])];
-    const Vec3 e3 = x[size_t(k[3])] - x[size_t(k[0])];
-    const double alpha = det3(e1, e2, e3);
-    if (alpha <= kVerdictDblMin) return 0.0;
-    const double frob_sq = e1.squaredNorm() + e2.squaredNorm() + e3.squaredNorm();
-    worst_t = std::min(worst_t, alpha / (frob_sq * std::sqrt(frob_sq)));
-  }
-  return 3.0 * std::cbrt(worst_t * worst_t);
-}
-
-double hex_scaled_jacobian(const std::array<Vec3, 8>& x) {
-  double worst = std::numeric_limits<double>::max();
-  auto corner_value = [&](const Vec3& e1, const Vec3& e2, const Vec3& e3) {
-    const double lengths = e1.norm() * e2.norm() * e3.norm();
-    if (lengths <= kVerdictDblMin) return 0.0;  // zero-length edge: degenerate
-    return det3(e1, e2, e3) / lengths;
-  };
-  for (const auto& k : kHexCorners) {
-    worst = std::min(worst, corner_value(x[size_t(k[1])] - x[size_t(k[0])], x[size_t(k[2])] - x[size_t(k[0])],
-                                         x[size_t(k[3])] - x[size_t(k[0])]));
-  }
-  const Vec3 xi = (x[1] - x[0]) + (x[2] - x[3]) + (x[5] - x[4]) + (x[6] - x[7]);
-  const Vec3 eta = (x[3] - x[0]) + (x[2] - x[1]) + (x[7] - x[4]) + (x[6] - x[5]);
-  const Vec3 zeta = (x[4] - x[0]) + (x[5] - x[1]) + (x[6] - x[2]) + (x[7] - x[3]);
-  worst = std::min(worst, corner_value(xi, eta, zeta));
-  return std::clamp(worst, -1.0, 1.0);
-}
-
 namespace {
 
-// One corner frame (or the centre frame) as hex_scaled_jacobian and hex_shape see it: the
-// same expressions in the same order, so minima over frames equal theirs exactly.
-struct FrameValues {
-  double sj = 0;
-  double t = 0;        //!< alpha / |J|_F^3, the quantity hex_shape minimizes
-  bool inverted = false;  //!< alpha <= DBL_MIN: hex_shape returns 0
+// The frames of a hex (its 8 corners, or some of them, and the centre), their determinants
+// and squared edge lengths gathered first and their roots and quotients taken after: each
+// frame's value is a chain of roots and a division, and independent chains side by side
+// run several at once. The expressions are Verdict's, in the same order as before (each
+// edge length is the root of its squared length, as Eigen's norm() takes it), so the
+// values are bit for bit what a frame-at-a-time loop gives.
+struct Frames {
+  int count = 0;
+  //! Frames past `count` hold 1s: the fixed-length loops below run over all nine.
+  double alpha[9] = {1, 1, 1, 1, 1, 1, 1, 1, 1}, sq1[9] = {1, 1, 1, 1, 1, 1, 1, 1, 1},
+         sq2[9] = {1, 1, 1, 1, 1, 1, 1, 1, 1}, sq3[9] = {1, 1, 1, 1, 1, 1, 1, 1, 1};
+
+  void add(const Vec3& e1, const Vec3& e2, const Vec3& e3) {
+    alpha[count] = det3(e1, e2, e3);
+    sq1[count] = e1.squaredNorm(), sq2[count] = e2.squaredNorm(), sq3[count] = e3.squaredNorm();
+    ++count;
+  }
+  void add_corner(const std::array<Vec3, 8>& x, int corner) {
+    const auto& k = kHexCorners[corner];
+    add(x[size_t(k[1])] - x[size_t(k[0])], x[size_t(k[2])] - x[size_t(k[0])], x[size_t(k[3])] - x[size_t(k[0])]);
+  }
+  void add_centre(const std::array<Vec3, 8>& x) {
+    add((x[1] - x[0]) + (x[2] - x[3]) + (x[5] - x[4]) + (x[6] - x[7]),
+        (x[3] - x[0]) + (x[2] - x[1]) + (x[7] - x[4]) + (x[6] - x[5]),
+        (x[4] - x[0]) + (x[5] - x[1]) + (x[6] - x[2]) + (x[7] - x[3]));
+  }
+  //! det / (|e1| |e2| |e3|) of frames [0, count); 0 for a zero-length edge. The lengths'
+  //! product is the root of the squared lengths' product, one root instead of three (the
+  //! roots were the smoother's bottleneck), in loops without branches that the compiler
+  //! runs two frames at a time; where that product leaves the normal range (edges under
+  //! 1e-100 or over 1e100) the lengths are taken one by one.
+  void scaled_jacobians(double* sj) const {
+    double lengths[9];
+    for (int f = 0; f < 9; ++f) lengths[f] = std::sqrt(sq1[f] * sq2[f] * sq3[f]);
+    for (int f = 0; f < 9; ++f) sj[f] = alpha[f] / lengths[f];
+    for (int f = 0; f < count; ++f) {
+      if (lengths[f] > 1e-150 && lengths[f] < 1e150) continue;
+      const double separate = std::sqrt(sq1[f]) * std::sqrt(sq2[f]) * std::sqrt(sq3[f]);
+      sj[f] = separate <= kVerdictDblMin ? 0.0 : alpha[f] / separate;
+    }
+  }
+  //! Smallest scaled Jacobian over frames [0, count).
+  double worst_scaled_jacobian() const {
+    double sj[9];
+    scaled_jacobians(sj);
+    double worst = std::numeric_limits<double>::max();
+    for (int f = 0; f < count; ++f) worst = std::min(worst, sj[f]);
+    return worst;
+  }
+  //! Smallest alpha / |J|_F^3 over frames [0, last), or -1 if one of them is inverted
+  //! (shape 0). The shape is 3 t^(2/3), monotone in t, so the minimum is taken over t and
+  //! the cube root once.
+  double worst_t(int last) const {
+    for (int f = 0; f < last; ++f)
+      if (alpha[f] <= kVerdictDblMin) return -1;
+    double t[9];
+    for (int f = 0; f < 9; ++f) {
+      const double frob_sq = sq1[f] + sq2[f] + sq3[f];
+      t[f] = alpha[f] / (frob_sq * std::sqrt(frob_sq));
+    }
+    double worst = std::numeric_limits<double>::max();
+    for (int f = 0; f < last; ++f) worst = std::min(worst, t[f]);
+    return worst;
+  }
 };
-FrameValues frame_values(const Vec3& e1, const Vec3& e2, const Vec3& e3, bool need_shape) {
-  FrameValues f;
-  const double alpha = det3(e1, e2, e3);
-  const double lengths = e1.norm() * e2.norm() * e3.norm();
-  f.sj = lengths <= kVerdictDblMin ? 0.0 : alpha / lengths;
-  f.inverted = alpha <= kVerdictDblMin;
-  if (need_shape && !f.inverted) {
-    const double frob_sq = e1.squaredNorm() + e2.squaredNorm() + e3.squaredNorm();
-    f.t = alpha / (frob_sq * std::sqrt(frob_sq));
-  }
-  return f;
-}
-FrameValues corner_frame(const std::array<Vec3, 8>& x, int corner, bool need_shape) {
-  const auto& k = kHexCorners[corner];
-  return frame_values(x[size_t(k[1])] - x[size_t(k[0])], x[size_t(k[2])] - x[size_t(k[0])],
-                      x[size_t(k[3])] - x[size_t(k[0])], need_shape);
-}
-double centre_sj(const std::array<Vec3, 8>& x) {
-  const Vec3 xi = (x[1] - x[0]) + (x[2] - x[3]) + (x[5] - x[4]) + (x[6] - x[7]);
-  const Vec3 eta = (x[3] - x[0]) + (x[2] - x[1]) + (x[7] - x[4]) + (x[6] - x[5]);
-  const Vec3 zeta = (x[4] - x[0]) + (x[5] - x[1]) + (x[6] - x[2]) + (x[7] - x[3]);
-  return frame_values(xi, eta, zeta, false).sj;
-}
-// Does corner frame `frame` use node `node` (its own corner or one of its three edges)?
-bool frame_uses(int frame, int node) {
-  for (int i = 0; i < 4; ++i)
-    if (kHexCorners[frame][i] == node) return true;
-  return false;
-}
-struct Accumulator {
-  double worst_sj = std::numeric_limits<double>::max();
-  double worst_t = std::numeric_limits<double>::max();
-  bool shape_zero = false;
-  void add(const FrameValues& f, bool need_shape) {
-    worst_sj = std::min(worst_sj, f.sj);
-    if (!need_shape) return;
-    if (f.inverted) shape_zero = true;
-    else worst_t = std::min(worst_t, f.t);
-  }
-  HexScaledJacobianAndShape result(double centre, bool need_shape) const {
-    HexScaledJacobianAndShape q;
-    q.scaled_jacobian = std::clamp(std::min(worst_sj, centre), -1.0, 1.0);
-    if (need_shape) q.shape = shape_zero ? 0.0 : 3.0 * std::cbrt(worst_t * worst_t);
-    return q;
-  }
-};
+
+double shape_from_t(double worst_t) { return worst_t < 0 ? 0.0 : 3.0 * worst_t * inverse_cube_root(worst_t); }
 
 }  // namespace
 
+double hex_shape(const std::array<Vec3, 8>& x) {
+  Frames frames;
+  for (int k = 0; k < 8; ++k) frames.add_corner(x, k);
+  return shape_from_t(frames.worst_t(8));
+}
+
+double hex_scaled_jacobian(const std::array<Vec3, 8>& x) {
+  Frames frames;
+  for (int k = 0; k < 8; ++k) frames.add_corner(x, k);
+  frames.add_centre(x);
+  return std::clamp(frames.worst_scaled_jacobian(), -1.0, 1.0);
+}
+
 HexScaledJacobianAndShape hex_scaled_jacobian_and_shape(const std::array<Vec3, 8>& x) {
-  Accumulator a;
-  for (int k = 0; k < 8; ++k) a.add(corner_frame(x, k, true), true);
-  return a.result(centre_sj(x), true);
+  Frames frames;
+  for (int k = 0; k < 8; ++k) frames.add_corner(x, k);
+  frames.add_centre(x);
+  HexScaledJacobianAndShape q;
+  q.scaled_jacobian = std::clamp(frames.worst_scaled_jacobian(), -1.0, 1.0);
+  q.shape = shape_from_t(frames.worst_t(8));
+  return q;
 }
 
 int hex_worst_scaled_jacobian_frame(const std::array<Vec3, 8>& x) {
+  Frames frames;
+  frames.add_centre(x);
+  for (int k = 0; k < 8; ++k) frames.add_corner(x, k);
+  double sj[9];
+  frames.scaled_jacobians(sj);
   int worst = 8;
-  double value = centre_sj(x);
-  for (int k = 0; k < 8; ++k) {
-    const double q = corner_frame(x, k, false).sj;
-    if (q < value) value = q, worst = k;
-  }
+  double value = sj[0];
+  for (int k = 0; k < 8; ++k)
+    if (sj[k + 1] < value) value = sj[k + 1], worst = k;
   return worst;
 }
 
@@ -150,28 +151,40 @@ std::array<int, 4> hex_corner_frame_nodes(int corner) {
   return {k[0], k[1], k[2], k[3]};
 }
 
+namespace {
+// Does corner frame `frame` use node `node` (its own corner or one of its three edges)?
+bool frame_uses(int frame, int node) {
+  for (int i = 0; i < 4; ++i)
+    if (kHexCorners[frame][i] == node) return true;
+  return false;
+}
+}  // namespace
+
 HexWithMovingCorner::HexWithMovingCorner(const std::array<Vec3, 8>& corners, int moving)
     : corners_(corners), moving_(moving) {
+  Frames fixed;
   for (int k = 0; k < 8; ++k) {
-    if (frame_uses(k, moving)) {
-      moving_frames_[size_t(moving_frame_count_++)] = k;
-      continue;
-    }
-    const FrameValues f = corner_frame(corners_, k, true);
-    fixed_sj_ = std::min(fixed_sj_, f.sj);
-    if (f.inverted) fixed_shape_zero_ = true;
-    else fixed_t_ = std::min(fixed_t_, f.t);
+    if (frame_uses(k, moving)) moving_frames_[size_t(moving_frame_count_++)] = k;
+    else fixed.add_corner(corners_, k);
   }
+  fixed_sj_ = std::min(fixed_sj_, fixed.worst_scaled_jacobian());
+  const double t = fixed.worst_t(fixed.count);
+  if (t < 0) fixed_shape_zero_ = true;
+  else fixed_t_ = std::min(fixed_t_, t);
 }
 
 HexScaledJacobianAndShape HexWithMovingCorner::at(const Vec3& position, bool need_shape) {
   corners_[size_t(moving_)] = position;
-  Accumulator a;
-  a.worst_sj = fixed_sj_;
-  a.worst_t = fixed_t_;
-  a.shape_zero = fixed_shape_zero_;
-  for (int i = 0; i < moving_frame_count_; ++i) a.add(corner_frame(corners_, moving_frames_[size_t(i)], need_shape), need_shape);
-  return a.result(centre_sj(corners_), need_shape);
+  Frames frames;
+  for (int i = 0; i < moving_frame_count_; ++i) frames.add_corner(corners_, moving_frames_[size_t(i)]);
+  frames.add_centre(corners_);
+  HexScaledJacobianAndShape q;
+  q.scaled_jacobian = std::clamp(std::min(fixed_sj_, frames.worst_scaled_jacobian()), -1.0, 1.0);
+  if (need_shape) {
+    const double t = fixed_shape_zero_ ? -1 : frames.worst_t(moving_frame_count_);
+    q.shape = t < 0 ? 0.0 : shape_from_t(std::min(fixed_t_, t));
+  }
+  return q;
 }
 
 std::array<Vec3, 8> hex_corners(const HexMesh& mesh, size_t hex) {
