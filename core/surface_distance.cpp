@@ -17,8 +17,11 @@ namespace {
 // it from the lower vertex id to the higher: on a closed, consistently oriented surface that
 // is one of its two triangles, so the same points are measured with a third fewer queries
 // (for a maximum; a mean would weigh the edges differently).
-void one_sided(const TriSurface& from, const TriangleBvh& to, bool each_edge_once, double& max_distance,
-               double& sum, size_t& count) {
+// With `max_only` (no sum wanted), a sample whose distance to the previous answer's triangle
+// is no more than the largest distance found so far cannot raise it and is not searched: the
+// maximum is the same, and most samples of a close surface are settled by that one triangle.
+void one_sided(const TriSurface& from, const TriangleBvh& to, bool each_edge_once, bool max_only,
+               double& max_distance, double& sum, size_t& count) {
   std::vector<Vec3> samples;
   samples.reserve(5 * from.triangles.size());
   std::vector<char> sampled(from.points.size(), 0);
@@ -44,7 +47,14 @@ void one_sided(const TriSurface& from, const TriangleBvh& to, bool each_edge_onc
     int hint = -1;
 #pragma omp for schedule(static)
     for (long i = 0; i < n; ++i) {
-      const TriangleBvh::ClosestPoint cp = to.closest_point_near(samples[size_t(i)], hint);
+      const Vec3& q = samples[size_t(i)];
+      if (max_only && hint >= 0) {
+        const auto& t = to.triangles()[size_t(hint)];
+        const Vec3 p = closest_point_on_triangle(q, to.points()[size_t(t[0])], to.points()[size_t(t[1])],
+                                                 to.points()[size_t(t[2])]);
+        if ((p - q).squaredNorm() <= local_max * local_max) continue;
+      }
+      const TriangleBvh::ClosestPoint cp = to.closest_point_near(q, hint);
       hint = cp.triangle;
       const double d = std::sqrt(cp.distance_sq);
       local_max = std::max(local_max, d);
@@ -74,8 +84,8 @@ SurfaceDistance surface_distance(const TriSurface& a, const TriangleBvh& a_bvh, 
   SurfaceDistance d;
   double sum_ab = 0, sum_ba = 0;
   size_t count_ab = 0, count_ba = 0;
-  one_sided(a, b_bvh, false, d.to_input_max, sum_ab, count_ab);  // its mean is reported too
-  one_sided(b, a_bvh, true, d.from_input_max, sum_ba, count_ba);
+  one_sided(a, b_bvh, false, false, d.to_input_max, sum_ab, count_ab);  // its mean is reported too
+  one_sided(b, a_bvh, true, true, d.from_input_max, sum_ba, count_ba);
   d.hausdorff = std::max(d.to_input_max, d.from_input_max);
   d.mean = count_ab ? sum_ab / double(count_ab) : 0.0;
   return d;
