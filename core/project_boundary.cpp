@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <exception>
 
 namespace dthex {
 namespace {
@@ -28,6 +29,78 @@ double longest_edge(const TriSurface& s, int t) {
   double l = 0;
   for (int i = 0; i < 3; ++i) l = std::max(l, (s.points[size_t(f[size_t(i)])] - s.points[size_t(f[size_t((i + 1) % 3)])]).norm());
   return l;
+}
+
+//! The uniform graph Laplacian of the interior nodes: diagonal = degree, -1 per interior
+//! neighbour; boundary neighbours are on the right-hand side.
+struct HarmonicSystem {
+  int n_unknowns;
+  const std::vector<double>& degree;
+  const std::vector<int>& row_start;
+  const std::vector<int>& neighbours;
+};
+
+//! Jacobi-preconditioned conjugate gradients for K of the three coordinates (from `first`;
+//! rhs holds three per unknown), K independent recurrences sharing each pass over the
+//! adjacency. Each iteration makes three passes over the unknowns (product with p and p.q;
+//! updates, preconditioned residual and its two dot products; new direction): the solve is
+//! memory bound, and seven separate passes cost twice as much. Returns K values per unknown.
+template <int K>
+std::vector<double> solve_harmonic(const HarmonicSystem& a, const std::vector<double>& rhs, int first,
+                                   int max_iterations, double tolerance) {
+  const size_t n = size_t(a.n_unknowns), m = K * n;
+  std::vector<double> x(m, 0.0), r(m), z(m), p(m), q(m);
+  using Values = std::array<double, K>;
+  Values rhs_norm2{}, rz{};
+  for (size_t u = 0; u < n; ++u)
+    for (size_t c = 0; c < K; ++c) {
+      const size_t i = K * u + c;
+      r[i] = rhs[3 * u + size_t(first) + c];
+      z[i] = p[i] = r[i] / a.degree[u];
+      rhs_norm2[c] += r[i] * r[i];
+      rz[c] += r[i] * z[i];
+    }
+  Values r2 = rhs_norm2;
+  auto converged = [&](size_t c) { return r2[c] <= tolerance * tolerance * rhs_norm2[c]; };
+  auto all_converged = [&] {
+    for (size_t c = 0; c < K; ++c)
+      if (!converged(c)) return false;
+    return true;
+  };
+  for (int it = 0; it < max_iterations && !all_converged(); ++it) {
+    Values pq{};
+    for (size_t u = 0; u < n; ++u) {
+      Values s;
+      for (size_t c = 0; c < K; ++c) s[c] = a.degree[u] * p[K * u + c];
+      for (int k = a.row_start[u]; k < a.row_start[u + 1]; ++k) {
+        const size_t w = K * size_t(a.neighbours[size_t(k)]);
+        for (size_t c = 0; c < K; ++c) s[c] -= p[w + c];
+      }
+      for (size_t c = 0; c < K; ++c) {
+        q[K * u + c] = s[c];
+        pq[c] += p[K * u + c] * s[c];
+      }
+    }
+    Values alpha;
+    for (size_t c = 0; c < K; ++c) alpha[c] = converged(c) || !(pq[c] > 0) ? 0.0 : rz[c] / pq[c];
+    Values rz_new{};
+    r2 = Values{};
+    for (size_t u = 0; u < n; ++u)
+      for (size_t c = 0; c < K; ++c) {
+        const size_t i = K * u + c;
+        x[i] += alpha[c] * p[i];
+        r[i] -= alpha[c] * q[i];
+        z[i] = r[i] / a.degree[u];
+        rz_new[c] += r[i] * z[i];
+        r2[c] += r[i] * r[i];
+      }
+    Values beta;
+    for (size_t c = 0; c < K; ++c) beta[c] = rz[c] > 0 ? rz_new[c] / rz[c] : 0.0;
+    for (size_t i = 0; i < m; i += K)
+      for (size_t c = 0; c < K; ++c) p[i + c] = z[i + c] + beta[c] * p[i + c];
+    rz = rz_new;
+  }
+  return x;
 }
 
 }  // namespace
@@ -99,60 +172,35 @@ void move_interior_harmonically(HexMesh& mesh, const std::vector<Vec3>& boundary
     row_start[size_t(u) + 1] = int(neighbours.size());
   }
 
-  // Jacobi-preconditioned conjugate gradients on the three coordinates at once (three
-  // independent recurrences sharing each pass over the adjacency; the three Eigen solves
-  // this replaces read the matrix three times through a slow self-adjoint product).
-  // Each iteration makes three passes over the unknowns (product with p and p.q; updates,
-  // preconditioned residual and its two dot products; new direction): the solve is memory
-  // bound, and seven separate passes cost twice as much. The passes stay on one core: split
-  // over two, every pass ends at a barrier, and on a busy machine (ctest -j2) each barrier
-  // waited for a descheduled thread, which made the stage three times slower.
-  const size_t m = 3 * size_t(n_unknowns);
-  std::vector<double> x(m, 0.0), r = rhs, z(m), p(m), q(m);
-  using Triple = std::array<double, 3>;
-  Triple rhs_norm2 = {0, 0, 0}, rz = {0, 0, 0};
-  for (size_t u = 0; u < size_t(n_unknowns); ++u)
-    for (size_t c = 0; c < 3; ++c) {
-      const size_t i = 3 * u + c;
-      z[i] = p[i] = r[i] / degree[u];
-      rhs_norm2[c] += r[i] * r[i];
-      rz[c] += r[i] * z[i];
+  // The three coordinates are three independent systems with the same matrix: x and y are
+  // solved on one core and z on the other, each thread on its own with no barrier between
+  // them (the earlier split of each pass over two cores waited at a barrier per pass, and on a
+  // busy machine, ctest -j2, each barrier waited for a descheduled thread).
+  const HarmonicSystem system{n_unknowns, degree, row_start, neighbours};
+  std::vector<double> xy, z;
+  std::exception_ptr failure[2];
+#pragma omp parallel sections num_threads(2)
+  {
+#pragma omp section
+    try {
+      xy = solve_harmonic<2>(system, rhs, 0, max_iterations, tolerance);
+    } catch (...) {
+      failure[0] = std::current_exception();
     }
-  Triple r2 = rhs_norm2;
-  auto converged = [&](size_t c) { return r2[c] <= tolerance * tolerance * rhs_norm2[c]; };
-  for (int it = 0; it < max_iterations && !(converged(0) && converged(1) && converged(2)); ++it) {
-    Triple pq = {0, 0, 0};
-    for (size_t u = 0; u < size_t(n_unknowns); ++u) {
-      double s0 = degree[u] * p[3 * u], s1 = degree[u] * p[3 * u + 1], s2 = degree[u] * p[3 * u + 2];
-      for (int k = row_start[u]; k < row_start[u + 1]; ++k) {
-        const size_t w = 3 * size_t(neighbours[size_t(k)]);
-        s0 -= p[w], s1 -= p[w + 1], s2 -= p[w + 2];
-      }
-      q[3 * u] = s0, q[3 * u + 1] = s1, q[3 * u + 2] = s2;
-      pq[0] += p[3 * u] * s0, pq[1] += p[3 * u + 1] * s1, pq[2] += p[3 * u + 2] * s2;
+#pragma omp section
+    try {
+      z = solve_harmonic<1>(system, rhs, 2, max_iterations, tolerance);
+    } catch (...) {
+      failure[1] = std::current_exception();
     }
-    Triple alpha;
-    for (size_t c = 0; c < 3; ++c) alpha[c] = converged(c) || !(pq[c] > 0) ? 0.0 : rz[c] / pq[c];
-    Triple rz_new = {0, 0, 0};
-    r2 = {0, 0, 0};
-    for (size_t u = 0; u < size_t(n_unknowns); ++u)
-      for (size_t c = 0; c < 3; ++c) {
-        const size_t i = 3 * u + c;
-        x[i] += alpha[c] * p[i];
-        r[i] -= alpha[c] * q[i];
-        z[i] = r[i] / degree[u];
-        rz_new[c] += r[i] * z[i];
-        r2[c] += r[i] * r[i];
-      }
-    Triple beta;
-    for (size_t c = 0; c < 3; ++c) beta[c] = rz[c] > 0 ? rz_new[c] / rz[c] : 0.0;
-    for (size_t i = 0; i < m; i += 3)
-      for (size_t c = 0; c < 3; ++c) p[i + c] = z[i + c] + beta[c] * p[i + c];
-    rz = rz_new;
   }
+  for (const auto& f : failure)
+    if (f) std::rethrow_exception(f);
   for (size_t v = 0; v < n; ++v)
-    if (unknown[v] >= 0)
-      for (int c = 0; c < 3; ++c) mesh.nodes[v][c] += x[3 * size_t(unknown[v]) + size_t(c)];
+    if (unknown[v] >= 0) {
+      const size_t u = size_t(unknown[v]);
+      mesh.nodes[v] += Vec3(xy[2 * u], xy[2 * u + 1], z[u]);
+    }
 }
 
 ProjectReport project_boundary(HexMesh& mesh, const TriSurface& coarse, const TriSurface& fine,
