@@ -4,6 +4,7 @@
 #include "core/boundary_overlap.h"
 
 #include <algorithm>
+#include <exception>
 #include <cmath>
 #include <cstdint>
 #include <numeric>
@@ -128,90 +129,61 @@ std::vector<std::array<int, 4>> boundary_quads_of(const HexMesh& mesh, const std
   return quads;
 }
 
-}  // namespace
-
-std::vector<std::array<int, 4>> boundary_quads(const HexMesh& mesh, std::vector<int>* owners) {
-  return boundary_quads_of(mesh, sorted_face_uses(mesh), owners);
-}
-
-std::vector<char> boundary_nodes(const HexMesh& mesh, const std::vector<char>* known) {
-  if (known && known->size() == mesh.nodes.size()) return *known;
-  return boundary_nodes_of_quads(mesh, boundary_quads(mesh));
-}
-
-std::vector<char> boundary_nodes_of_quads(const HexMesh& mesh, const std::vector<std::array<int, 4>>& quads) {
-  std::vector<char> on_boundary(mesh.nodes.size(), 0);
-  for (size_t v = 0; v < mesh.nodes.size(); ++v) on_boundary[v] = mesh.is_boundary_node(int(v));
-  for (const auto& quad : quads)
-    for (int v : quad) on_boundary[size_t(v)] = 1;
-  return on_boundary;
-}
-
-ConformityReport check_conformity(const HexMesh& mesh, std::vector<std::array<int, 4>>* boundary,
-                                  std::vector<int>* boundary_owners) {
-  ConformityReport r;
-  r.hexes = mesh.hexes.size();
-  r.nodes = mesh.nodes.size();
-  for (const auto& hex : mesh.hexes)
-    for (int v : hex)
-      if (v < 0 || size_t(v) >= mesh.nodes.size())
-        throw InputError("check_conformity: a hex refers to node " + std::to_string(v) + ", outside the " +
-                         std::to_string(mesh.nodes.size()) + " nodes");
-
-  const auto uses = sorted_face_uses(mesh);
-  for_each_face(uses, [&](size_t, size_t count) {
-    if (count == 1) ++r.boundary_faces;
-    if (count > 2) ++r.overshared_faces;
-  });
-
-  // Repeated hexes: node sets sorted, bucketed by their smallest node (a counting sort, as
-  // for the faces), and compared within each short bucket.
-  {
-    std::vector<size_t> start(mesh.nodes.size() + 1, 0);
-    std::vector<std::array<int, 8>> node_sets = mesh.hexes;
-    for (auto& h : node_sets) {
-      std::sort(h.begin(), h.end());
-      ++start[size_t(h[0]) + 1];
-    }
-    std::partial_sum(start.begin(), start.end(), start.begin());
-    std::vector<std::array<int, 8>> bucketed(node_sets.size());
-    std::vector<size_t> next(start.begin(), start.end() - 1);
-    for (const auto& h : node_sets) bucketed[next[size_t(h[0])]++] = h;
-    for (size_t b = 0; b + 1 < start.size(); ++b) {
-      const auto first = bucketed.begin() + long(start[b]), last = bucketed.begin() + long(start[b + 1]);
-      if (last - first < 2) continue;
-      std::sort(first, last);
-      for (auto it = first + 1; it < last; ++it)
-        if (*it == *(it - 1)) ++r.duplicate_hexes;
-    }
+//! Hexes with the same 8 nodes as an earlier one: node sets sorted, bucketed by their
+//! smallest node (a counting sort, as for the faces), and compared within each short bucket.
+size_t count_duplicate_hexes(const HexMesh& mesh) {
+  size_t duplicates = 0;
+  std::vector<size_t> start(mesh.nodes.size() + 1, 0);
+  std::vector<std::array<int, 8>> node_sets = mesh.hexes;
+  for (auto& h : node_sets) {
+    std::sort(h.begin(), h.end());
+    ++start[size_t(h[0]) + 1];
   }
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<std::array<int, 8>> bucketed(node_sets.size());
+  std::vector<size_t> next(start.begin(), start.end() - 1);
+  for (const auto& h : node_sets) bucketed[next[size_t(h[0])]++] = h;
+  for (size_t b = 0; b + 1 < start.size(); ++b) {
+    const auto first = bucketed.begin() + long(start[b]), last = bucketed.begin() + long(start[b + 1]);
+    if (last - first < 2) continue;
+    std::sort(first, last);
+    for (auto it = first + 1; it < last; ++it)
+      if (*it == *(it - 1)) ++duplicates;
+  }
+  return duplicates;
+}
 
+//! Nodes no hex uses.
+size_t count_unreferenced_nodes(const HexMesh& mesh) {
   std::vector<char> used(mesh.nodes.size(), 0);
   for (const auto& h : mesh.hexes)
     for (int v : h) used[size_t(v)] = 1;
-  r.unreferenced_nodes = size_t(std::count(used.begin(), used.end(), 0));
+  return size_t(std::count(used.begin(), used.end(), 0));
+}
 
-  // Coincident nodes: snap to a grid of 1e-10 of the bounding-box diagonal and sort.
-  if (!mesh.nodes.empty()) {
-    Vec3 lo = mesh.nodes[0], hi = mesh.nodes[0];
-    for (const auto& p : mesh.nodes) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-    const double cell = std::max((hi - lo).norm() * 1e-10, 1e-300);
-    std::vector<std::array<int64_t, 3>> snapped(mesh.nodes.size());
-    for (size_t i = 0; i < mesh.nodes.size(); ++i)
-      for (int k = 0; k < 3; ++k) snapped[i][size_t(k)] = int64_t(std::llround((mesh.nodes[i][k] - lo[k]) / cell));
-    std::sort(snapped.begin(), snapped.end());
-    for (size_t i = 1; i < snapped.size(); ++i)
-      if (snapped[i] == snapped[i - 1]) ++r.duplicate_nodes;
+//! Nodes coinciding with an earlier one: snapped to a grid of 1e-10 of the bounding-box
+//! diagonal and sorted.
+size_t count_duplicate_nodes(const HexMesh& mesh) {
+  if (mesh.nodes.empty()) return 0;
+  Vec3 lo = mesh.nodes[0], hi = mesh.nodes[0];
+  for (const auto& p : mesh.nodes) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
   }
+  const double cell = std::max((hi - lo).norm() * 1e-10, 1e-300);
+  std::vector<std::array<int64_t, 3>> snapped(mesh.nodes.size());
+  for (size_t i = 0; i < mesh.nodes.size(); ++i)
+    for (int k = 0; k < 3; ++k) snapped[i][size_t(k)] = int64_t(std::llround((mesh.nodes[i][k] - lo[k]) / cell));
+  std::sort(snapped.begin(), snapped.end());
+  size_t duplicates = 0;
+  for (size_t i = 1; i < snapped.size(); ++i)
+    if (snapped[i] == snapped[i - 1]) ++duplicates;
+  return duplicates;
+}
 
-  // The boundary quad surface: edges, orientation, fans around each node.
-  std::vector<int> owners;
-  const auto quads = boundary_quads_of(mesh, uses, &owners);  // the uses sorted above, not a second sort
-  if (boundary) *boundary = quads;
-  if (boundary_owners) *boundary_owners = owners;
+//! The boundary quad surface: open and misoriented edges, fans around each node (several:
+//! non-manifold), and nodes hanging inside another boundary edge, into r.
+void check_boundary_surface(const HexMesh& mesh, const std::vector<std::array<int, 4>>& quads, ConformityReport& r) {
   struct EdgeUse {
     uint64_t key;
     int quad, corner;  // the directed edge runs from corner to corner + 1 of quad
@@ -317,6 +289,71 @@ ConformityReport check_conformity(const HexMesh& mesh, std::vector<std::array<in
     }
     r.hanging_nodes = size_t(std::count(hanging.begin(), hanging.end(), 1));
   }
+
+}
+
+}  // namespace
+
+std::vector<std::array<int, 4>> boundary_quads(const HexMesh& mesh, std::vector<int>* owners) {
+  return boundary_quads_of(mesh, sorted_face_uses(mesh), owners);
+}
+
+std::vector<char> boundary_nodes(const HexMesh& mesh, const std::vector<char>* known) {
+  if (known && known->size() == mesh.nodes.size()) return *known;
+  return boundary_nodes_of_quads(mesh, boundary_quads(mesh));
+}
+
+std::vector<char> boundary_nodes_of_quads(const HexMesh& mesh, const std::vector<std::array<int, 4>>& quads) {
+  std::vector<char> on_boundary(mesh.nodes.size(), 0);
+  for (size_t v = 0; v < mesh.nodes.size(); ++v) on_boundary[v] = mesh.is_boundary_node(int(v));
+  for (const auto& quad : quads)
+    for (int v : quad) on_boundary[size_t(v)] = 1;
+  return on_boundary;
+}
+
+ConformityReport check_conformity(const HexMesh& mesh, std::vector<std::array<int, 4>>* boundary,
+                                  std::vector<int>* boundary_owners) {
+  ConformityReport r;
+  r.hexes = mesh.hexes.size();
+  r.nodes = mesh.nodes.size();
+  for (const auto& hex : mesh.hexes)
+    for (int v : hex)
+      if (v < 0 || size_t(v) >= mesh.nodes.size())
+        throw InputError("check_conformity: a hex refers to node " + std::to_string(v) + ", outside the " +
+                         std::to_string(mesh.nodes.size()) + " nodes");
+
+  const auto uses = sorted_face_uses(mesh);
+  for_each_face(uses, [&](size_t, size_t count) {
+    if (count == 1) ++r.boundary_faces;
+    if (count > 2) ++r.overshared_faces;
+  });
+  std::vector<int> owners;
+  const auto quads = boundary_quads_of(mesh, uses, &owners);  // the uses sorted above, not a second sort
+
+  // The repeated hexes and nodes on one core, the boundary surface on the other: each is a
+  // few sorts and scans on its own, and they write different counts.
+  std::exception_ptr failure[2];
+#pragma omp parallel sections num_threads(2) if (mesh.hexes.size() > size_t(kParallelHexes))
+  {
+#pragma omp section
+    try {
+      r.duplicate_hexes = count_duplicate_hexes(mesh);
+      r.unreferenced_nodes = count_unreferenced_nodes(mesh);
+      r.duplicate_nodes = count_duplicate_nodes(mesh);
+    } catch (...) {
+      failure[0] = std::current_exception();
+    }
+#pragma omp section
+    try {
+      check_boundary_surface(mesh, quads, r);
+    } catch (...) {
+      failure[1] = std::current_exception();
+    }
+  }
+  for (const auto& f : failure)
+    if (f) std::rethrow_exception(f);
+  if (boundary) *boundary = quads;
+  if (boundary_owners) *boundary_owners = owners;
 
   // Geometry last: boundary faces folded into the mesh's own volume.
   const BoundaryOverlapReport overlap = find_boundary_faces_inside(mesh, quads, owners);
