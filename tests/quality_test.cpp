@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "core/conformity.h"
 #include "core/dice.h"
+#include "core/inverse_cube_root.h"
 #include "core/quality.h"
 #include "core/tetrahedralize.h"
 #include "core/thex.h"
@@ -60,6 +61,40 @@ TEST(Quality, UnitCubeIsPerfect) {
   auto tiny = unit_cube();
   for (auto& p : tiny) p *= 1e-6;  // scale-free
   EXPECT_NEAR(hex_shape(tiny), 1.0, 1e-12);
+}
+
+// The scaled Jacobian takes one root of the product of a frame's squared edge lengths. At
+// edges of 1e-100 that product (1e-600) underflows to 0, at 1e100 it overflows; there the
+// lengths are taken one by one. A distorted hex gives the same values at every scale.
+TEST(Quality, ScaleFreeFromTinyToHugeEdges) {
+  auto x = unit_cube();
+  x[6] = Vec3(1.3, 0.8, 1.2);
+  x[4] = Vec3(0.1, -0.2, 0.9);
+  const double sj = hex_scaled_jacobian(x), shape = hex_shape(x);
+  ASSERT_GT(sj, 0.1);
+  ASSERT_LT(sj, 0.95);
+  for (double scale : {1e-100, 1e-60, 1e-20, 1e20, 1e60, 1e100}) {
+    auto y = x;
+    for (auto& p : y) p *= scale;
+    EXPECT_NEAR(hex_scaled_jacobian(y), sj, 1e-12) << "scale " << scale;
+    EXPECT_NEAR(hex_shape(y), shape, 1e-12) << "scale " << scale;
+    EXPECT_NEAR(hex_scaled_jacobian_and_shape(y).scaled_jacobian, sj, 1e-12) << "scale " << scale;
+  }
+}
+
+// The quality's cube root and the untangler's energy use a bit-level guess refined by Newton
+// steps: within three ulps of the library's over the whole range of doubles.
+TEST(Quality, InverseCubeRootIsWithinThreeUlps) {
+  double worst = 0;
+  for (double x = 1e-300; x < 1e300; x *= 1.37) {
+    const double reference = 1.0 / std::cbrt(x);
+    worst = std::max(worst, std::abs(inverse_cube_root(x) - reference) / reference);
+  }
+  EXPECT_LT(worst, 7e-16);
+  EXPECT_GT(worst, 0.0);  // not the library's cube root under another name
+  EXPECT_NEAR(inverse_cube_root(8.0), 0.5, 4e-16);
+  EXPECT_EQ(inverse_cube_root(1e-310), 1.0 / std::cbrt(1e-310));  // subnormal: the library's
+  EXPECT_TRUE(std::isinf(inverse_cube_root(0.0)));
 }
 
 TEST(Quality, MirroredHexIsInverted) {

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 using namespace dthex;
 using namespace dthex::testing;
@@ -53,4 +54,41 @@ TEST(SurfaceDistance, FindsTheFarthestPointAtAnEdgeMidpointOfTheInput) {
   double corner = 0;
   for (const Vec3& p : cube.points) corner = std::max(corner, std::sqrt(tet_bvh.closest_point(p).distance_sq));
   EXPECT_NEAR(d.to_input_max, corner, 1e-12);
+}
+
+// Both one-sided maxima against a brute-force pass over every sample and every triangle: the
+// input-to-boundary side skips a sample that the previous answer's triangle shows cannot
+// raise the maximum, and must still find the same one. A sphere against a copy of itself
+// with its vertices pushed in and out.
+TEST(SurfaceDistance, MaximaEqualABruteForceSearch) {
+  const TriSurface sphere = read_surface(DTHEX_SOURCE_DIR "/meshes/sphere728.off");
+  TriSurface bumpy = sphere;
+  for (size_t v = 0; v < bumpy.points.size(); ++v)
+    bumpy.points[v] *= 1.0 + 0.03 * std::sin(double(v) * 1.7) + 0.02 * std::cos(double(v) * 0.3);
+  auto brute_max = [](const TriSurface& from, const TriSurface& to) {
+    std::vector<Vec3> samples = from.points;
+    for (const auto& t : from.triangles) {
+      const Vec3 &a = from.points[size_t(t[0])], &b = from.points[size_t(t[1])], &c = from.points[size_t(t[2])];
+      samples.push_back((a + b + c) / 3.0);
+      samples.push_back(0.5 * (a + b));
+      samples.push_back(0.5 * (b + c));
+      samples.push_back(0.5 * (c + a));
+    }
+    double worst = 0;
+    for (const Vec3& q : samples) {
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const auto& t : to.triangles) {
+        const Vec3 p = closest_point_on_triangle(q, to.points[size_t(t[0])], to.points[size_t(t[1])],
+                                                 to.points[size_t(t[2])]);
+        nearest = std::min(nearest, (p - q).squaredNorm());
+      }
+      worst = std::max(worst, std::sqrt(nearest));
+    }
+    return worst;
+  };
+  const TriangleBvh sphere_bvh(sphere), bumpy_bvh(bumpy);
+  const SurfaceDistance d = surface_distance(bumpy, bumpy_bvh, sphere, sphere_bvh);
+  EXPECT_DOUBLE_EQ(d.to_input_max, brute_max(bumpy, sphere));
+  EXPECT_DOUBLE_EQ(d.from_input_max, brute_max(sphere, bumpy));
+  EXPECT_GT(d.from_input_max, 0.01);
 }
