@@ -25,6 +25,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr long kParallelThreshold = 20000;
 //! A hex counts as inverted at scaled Jacobian <= this: a margin over Verdict's <= 0.
 constexpr double kInvertedBelow = 1e-6;
+//! Garanzha's epsilon once every frame is valid: the energy is then a barrier.
+constexpr double kBarrierEps = 1e-10;
 //! How far (in local edge lengths) a boundary node may slide in one round.
 constexpr double kMaxSlidePerRound = 0.2;
 
@@ -78,12 +80,15 @@ struct FrameBatch {
 //! Limited-memory BFGS with Armijo backtracking. `f(z, grad)` returns the energy, or +inf
 //! for a point that must not be entered. Returns the number of iterations done;
 //! `start_energy` is f at the given z (the caller needs it, and need not evaluate it again).
+//! With `known_gradient`, the caller has evaluated f at z already: start_energy holds the
+//! value and known_gradient the gradient.
 template <class Energy>
 int minimize_lbfgs(Eigen::VectorXd& z, Energy&& f, int max_iterations, Clock::time_point deadline, bool& timed_out,
-                   double& start_energy) {
+                   double& start_energy, const Eigen::VectorXd* known_gradient = nullptr) {
   const int memory = 8;
   Eigen::VectorXd g(z.size()), g_new(z.size()), z_new(z.size()), d(z.size());
-  double fz = start_energy = f(z, g);
+  if (known_gradient) g = *known_gradient;
+  double fz = known_gradient ? start_energy : (start_energy = f(z, g));
   if (!std::isfinite(fz)) return 0;
   std::deque<Eigen::VectorXd> s_hist, y_hist;
   std::deque<double> rho_hist;
@@ -442,8 +447,12 @@ class Untangler {
     rebase(ph);
     Eigen::VectorXd z = Eigen::VectorXd::Zero(n_vars), grad(n_vars);
     double detmin = 0;
-    evaluate(ph, z, nullptr, 1.0, &detmin);
-    double eps = detmin > 0 ? 1e-10 : std::sqrt(1e-12 + 0.04 * detmin * detmin);
+    // The first evaluation is made with the gradient at the barrier's epsilon: where nothing
+    // is inverted (detmin > 0, as in the shape pass) that is the first round's epsilon, and
+    // this evaluation the minimizer's start, not made a second time.
+    double start_energy = evaluate(ph, z, &grad, kBarrierEps, &detmin);
+    bool start_known = detmin > 0;
+    double eps = detmin > 0 ? kBarrierEps : std::sqrt(1e-12 + 0.04 * detmin * detmin);
     const bool any_sliding = !ph.sliding_nodes.empty();
     for (int round = 0; round < max_rounds; ++round) {
       ++ph.rounds;
@@ -457,8 +466,9 @@ class Untangler {
       // round's starting energy (the same evaluation, not repeated).
       const double detmin_before = detmin;
       bool timed_out = false;
-      double e_prev = kInf;
-      minimize_lbfgs(z, energy, max_iterations, deadline_, timed_out, e_prev);
+      double e_prev = start_known ? start_energy : kInf;
+      minimize_lbfgs(z, energy, max_iterations, deadline_, timed_out, e_prev, start_known ? &grad : nullptr);
+      start_known = false;
       if (!std::isfinite(e_prev)) e_prev = evaluate(ph, z, nullptr, eps, &detmin);  // z did not move
       apply(ph, z);
       if (any_sliding) {
@@ -477,7 +487,7 @@ class Untangler {
       const double mu = (1.0 - sigma) * chi(detmin, eps);
       // Garanzha's schedule while something is inverted; once every frame is valid the
       // regularization has done its job and the energy becomes a barrier at once.
-      eps = detmin > 0 ? 1e-10 : detmin < mu ? 2.0 * std::sqrt(mu * (mu - detmin)) : 1e-10;
+      eps = detmin > 0 ? kBarrierEps : detmin < mu ? 2.0 * std::sqrt(mu * (mu - detmin)) : kBarrierEps;
       if (detmin > 0 && std::abs(e_prev - e) <= 1e-5 * std::abs(e)) break;
       if (give_up_hopeless_ && detmin <= 0 && round >= 2 &&
           detmin + (detmin - detmin_before) * (max_rounds - 1 - round) < 0)
