@@ -106,24 +106,37 @@ struct Frames {
   }
 };
 
+}  // namespace
+
+// The hex metrics are the smoother's inner loop: on a processor with AVX2 they run a version
+// compiled for it (four frames' roots in one instruction instead of two), chosen once at
+// start-up; the same operations on each value, so the same results.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#define DTHEX_HEX_METRIC __attribute__((target_clones("avx2", "default")))
+#else
+#define DTHEX_HEX_METRIC
+#endif
+
+namespace {
+
 double shape_from_t(double worst_t) { return worst_t < 0 ? 0.0 : 3.0 * worst_t * inverse_cube_root(worst_t); }
 
 }  // namespace
 
-double hex_shape(const std::array<Vec3, 8>& x) {
+DTHEX_HEX_METRIC double hex_shape(const std::array<Vec3, 8>& x) {
   Frames frames;
   for (int k = 0; k < 8; ++k) frames.add_corner(x, k);
   return shape_from_t(frames.worst_t(8));
 }
 
-double hex_scaled_jacobian(const std::array<Vec3, 8>& x) {
+DTHEX_HEX_METRIC double hex_scaled_jacobian(const std::array<Vec3, 8>& x) {
   Frames frames;
   for (int k = 0; k < 8; ++k) frames.add_corner(x, k);
   frames.add_centre(x);
   return std::clamp(frames.worst_scaled_jacobian(), -1.0, 1.0);
 }
 
-HexScaledJacobianAndShape hex_scaled_jacobian_and_shape(const std::array<Vec3, 8>& x) {
+DTHEX_HEX_METRIC HexScaledJacobianAndShape hex_scaled_jacobian_and_shape(const std::array<Vec3, 8>& x) {
   Frames frames;
   for (int k = 0; k < 8; ++k) frames.add_corner(x, k);
   frames.add_centre(x);
@@ -173,7 +186,7 @@ HexWithMovingCorner::HexWithMovingCorner(const std::array<Vec3, 8>& corners, int
   else fixed_t_ = std::min(fixed_t_, t);
 }
 
-HexScaledJacobianAndShape HexWithMovingCorner::at(const Vec3& position, bool need_shape) {
+DTHEX_HEX_METRIC HexScaledJacobianAndShape HexWithMovingCorner::at(const Vec3& position, bool need_shape) {
   corners_[size_t(moving_)] = position;
   Frames frames;
   for (int i = 0; i < moving_frame_count_; ++i) frames.add_corner(corners_, moving_frames_[size_t(i)]);
