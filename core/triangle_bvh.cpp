@@ -278,41 +278,72 @@ void TriangleBvh::for_each_in_box(const Eigen::AlignedBox3d& box, const std::fun
   }
 }
 
+bool TriangleBvh::split_pair_part(const std::array<int, 2>& part, std::vector<std::array<int, 2>>& out) const {
+  const auto [ia, ib] = part;
+  const Node& a = nodes_[size_t(ia)];
+  const Node& b = nodes_[size_t(ib)];
+  if (ia == ib) {
+    if (a.left < 0) return false;
+    out.push_back({a.left, a.left});
+    out.push_back({a.right, a.right});
+    out.push_back({a.left, a.right});
+    return true;
+  }
+  if (!boxes_overlap(a.box, b.box)) return true;  // no pair in it
+  const bool a_leaf = a.left < 0, b_leaf = b.left < 0;
+  if (a_leaf && b_leaf) return false;
+  if (b_leaf || (!a_leaf && half_area(a.box) >= half_area(b.box))) {
+    out.push_back({a.left, ib});
+    out.push_back({a.right, ib});
+  } else {
+    out.push_back({ia, b.left});
+    out.push_back({ia, b.right});
+  }
+  return true;
+}
+
 void TriangleBvh::for_each_overlapping_pair(const std::function<void(int, int)>& visit) const {
   if (nodes_.empty()) return;
+  for_each_overlapping_pair_in({0, 0}, visit);
+}
+
+std::vector<std::array<int, 2>> TriangleBvh::overlapping_pair_parts(size_t pieces) const {
+  std::vector<std::array<int, 2>> parts;
+  if (nodes_.empty()) return parts;
+  parts.push_back({0, 0});
+  // Breadth first, so the parts are of about equal depth; a split that finds no overlap
+  // drops its part.
+  for (bool split = true; split && parts.size() < pieces;) {
+    split = false;
+    std::vector<std::array<int, 2>> next;
+    for (const auto& part : parts)
+      if (split_pair_part(part, next)) split = true;
+      else next.push_back(part);
+    parts.swap(next);
+  }
+  return parts;
+}
+
+void TriangleBvh::for_each_overlapping_pair_in(const std::array<int, 2>& part,
+                                               const std::function<void(int, int)>& visit) const {
   auto report = [&](int a, int b) {
     if (boxes_overlap(boxes_[size_t(a)], boxes_[size_t(b)])) visit(std::min(a, b), std::max(a, b));
   };
   // Simultaneous descent: (n, n) covers pairs inside one subtree, (a, b) with a != b pairs
   // across two disjoint subtrees, so every unordered triangle pair is considered exactly once.
-  std::vector<std::pair<int, int>> stack{{0, 0}};
+  std::vector<std::array<int, 2>> stack{part};
   while (!stack.empty()) {
-    const auto [ia, ib] = stack.back();
+    const std::array<int, 2> item = stack.back();
     stack.pop_back();
-    const Node& a = nodes_[size_t(ia)];
-    const Node& b = nodes_[size_t(ib)];
-    if (ia == ib) {
-      if (a.left < 0) {
-        for (int i = a.first; i < a.first + a.count; ++i)
-          for (int j = i + 1; j < a.first + a.count; ++j) report(order_[size_t(i)], order_[size_t(j)]);
-      } else {
-        stack.emplace_back(a.left, a.left);
-        stack.emplace_back(a.right, a.right);
-        stack.emplace_back(a.left, a.right);
-      }
-      continue;
-    }
-    if (!boxes_overlap(a.box, b.box)) continue;
-    const bool a_leaf = a.left < 0, b_leaf = b.left < 0;
-    if (a_leaf && b_leaf) {
+    if (split_pair_part(item, stack)) continue;
+    const Node& a = nodes_[size_t(item[0])];
+    const Node& b = nodes_[size_t(item[1])];
+    if (item[0] == item[1]) {
+      for (int i = a.first; i < a.first + a.count; ++i)
+        for (int j = i + 1; j < a.first + a.count; ++j) report(order_[size_t(i)], order_[size_t(j)]);
+    } else {
       for (int i = a.first; i < a.first + a.count; ++i)
         for (int j = b.first; j < b.first + b.count; ++j) report(order_[size_t(i)], order_[size_t(j)]);
-    } else if (b_leaf || (!a_leaf && half_area(a.box) >= half_area(b.box))) {
-      stack.emplace_back(a.left, ib);
-      stack.emplace_back(a.right, ib);
-    } else {
-      stack.emplace_back(ia, b.left);
-      stack.emplace_back(ia, b.right);
     }
   }
 }

@@ -40,6 +40,11 @@ class TriangleBvh {
   void for_each_in_box(const Eigen::AlignedBox3d& box, const std::function<void(int)>& visit) const;
   //! Calls visit(a, b) once for every pair a < b of triangles whose boxes overlap.
   void for_each_overlapping_pair(const std::function<void(int, int)>& visit) const;
+  //! The work of for_each_overlapping_pair cut into about `pieces` independent parts (fewer
+  //! for a small tree): for_each_overlapping_pair_in(part, visit) over every part visits
+  //! each pair exactly once, so the parts can go to different threads.
+  std::vector<std::array<int, 2>> overlapping_pair_parts(size_t pieces) const;
+  void for_each_overlapping_pair_in(const std::array<int, 2>& part, const std::function<void(int, int)>& visit) const;
 
   size_t size() const { return triangles_.size(); }
   //! The surface the tree was built on (the untangler reads triangle normals from it).
@@ -50,6 +55,10 @@ class TriangleBvh {
  private:
   ClosestPoint search(const Vec3& q, const std::function<bool(int)>* accept, int hint,
                       double max_distance_sq = std::numeric_limits<double>::infinity()) const;
+  //! One step of the simultaneous descent of for_each_overlapping_pair: the parts that
+  //! (ia, ib) splits into go to `out`; false if it is a pair of leaves (or a leaf with
+  //! itself), whose triangle pairs are visited directly.
+  bool split_pair_part(const std::array<int, 2>& part, std::vector<std::array<int, 2>>& out) const;
 
   struct Node {
     Eigen::AlignedBox3d box;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <memory>
 #include <numeric>
 #include <sstream>
@@ -269,9 +270,8 @@ SurfaceStats verify_surface(TriSurface& surface, const std::string& name, const 
   if (options.check_self_intersections) {
     tree = std::make_unique<TriangleBvh>(surface);
     const TriangleBvh& bvh = *tree;
-    size_t found = 0;
-    std::pair<int, int> first{-1, -1};
-    bvh.for_each_overlapping_pair([&](int a, int b) {
+    // Do triangles a and b (their boxes overlapping) meet anywhere but in what they share?
+    auto pair_intersects = [&](int a, int b) {
       const Triangle &ta = T[size_t(a)], &tb = T[size_t(b)];
       int shared = 0;
       for (int u : ta)
@@ -304,11 +304,35 @@ SurfaceStats verify_surface(TriSurface& surface, const std::string& name, const 
         const bool coplanar = std::abs(volume) <= 1e-10 * e.norm() * pa.norm() * pb.norm();
         hit = coplanar && e.cross(pa).dot(e.cross(pb)) > 0;
       }
-      if (hit) {
-        ++found;
-        if (first.first < 0 || std::make_pair(a, b) < first) first = {a, b};
+      return hit;
+    };
+    // The pairs are split into parts over the cores, each part counting its own hits and its
+    // smallest pair; the totals do not depend on how the parts were shared out.
+    const std::vector<std::array<int, 2>> parts = bvh.overlapping_pair_parts(64);
+    std::vector<size_t> found_in(parts.size(), 0);
+    std::vector<std::pair<int, int>> first_in(parts.size(), {-1, -1});
+    std::exception_ptr failure;
+#pragma omp parallel for schedule(dynamic, 1) if (nt > 20000)
+    for (long i = 0; i < long(parts.size()); ++i) {
+      try {
+        bvh.for_each_overlapping_pair_in(parts[size_t(i)], [&](int a, int b) {
+          if (!pair_intersects(a, b)) return;
+          ++found_in[size_t(i)];
+          auto& first = first_in[size_t(i)];
+          if (first.first < 0 || std::make_pair(a, b) < first) first = {a, b};
+        });
+      } catch (...) {
+#pragma omp critical(dthex_verify_failure)
+        failure = std::current_exception();
       }
-    });
+    }
+    if (failure) std::rethrow_exception(failure);
+    size_t found = 0;
+    std::pair<int, int> first{-1, -1};
+    for (size_t i = 0; i < parts.size(); ++i) {
+      found += found_in[i];
+      if (first_in[i].first >= 0 && (first.first < 0 || first_in[i] < first)) first = first_in[i];
+    }
     if (found)
       refuse("self-intersection", std::to_string(found) + " intersecting triangle pair" + (found > 1 ? "s" : "") +
                                       ", first " + describe.triangle(first.first) + " and " +

@@ -173,6 +173,20 @@ TEST(TriangleBvh, OverlappingPairsEqualBruteForce) {
   EXPECT_EQ(found, brute);
   EXPECT_GT(brute.size(), size_t(3 * count));  // neighbours at least, and crossings
 
+  // Cut into parts (as verification shares them over the cores): together they visit the
+  // same pairs, each once.
+  const auto parts = bvh.overlapping_pair_parts(16);
+  EXPECT_GE(parts.size(), 16u);
+  std::set<std::pair<int, int>> in_parts;
+  size_t part_calls = 0;
+  for (const auto& part : parts)
+    bvh.for_each_overlapping_pair_in(part, [&](int a, int b) {
+      in_parts.insert({a, b});
+      ++part_calls;
+    });
+  EXPECT_EQ(part_calls, in_parts.size());
+  EXPECT_EQ(in_parts, brute);
+
   // for_each_in_box agrees with brute force too.
   const Eigen::AlignedBox3d query(Vec3(0.2, -0.3, -0.2), Vec3(0.8, 0.4, 0.6));
   std::set<int> in_box, brute_box;

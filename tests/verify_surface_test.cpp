@@ -353,6 +353,37 @@ TEST(VerifySurface, SelfIntersections) {
   EXPECT_EQ(stats.components, 2u);
 }
 
+// On a big surface the pairs are searched on all cores, in parts: the count and the first
+// pair named must be those of the search on one core. A small sphere with its pole pushed
+// through (384 triangles, searched on one core) is copied 60 times side by side (23,040
+// triangles): 60 times the pairs, the same first pair.
+TEST(VerifySurface, SelfIntersectionsAreCountedAlikeOnAllCores) {
+  auto refusal = [](TriSurface s) {
+    try {
+      verify_surface(s, "case.off");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  TriSurface small = uv_sphere(12, 16);
+  small.points[0] = Vec3(0.05, 0.02, -1.4);
+  TriSurface many = small;
+  for (int copy = 1; copy < 60; ++copy) {
+    TriSurface moved = small;
+    for (Vec3& p : moved.points) p += Vec3(4.0 * (copy % 8), 4.0 * (copy / 8), 0);
+    many = join(many, moved);
+  }
+  ASSERT_GT(many.triangles.size(), 20000u);
+  const std::string alone = refusal(small);
+  const std::string prefix = "case.off: self-intersection: ";
+  ASSERT_EQ(alone.rfind(prefix, 0), 0u) << alone;
+  const size_t pairs = std::stoul(alone.substr(prefix.size()));
+  const std::string rest = alone.substr(alone.find(" intersecting triangle pairs, first triangle 0 "));
+  ASSERT_GT(pairs, 1u);
+  EXPECT_EQ(refusal(many), prefix + std::to_string(60 * pairs) + rest);
+}
+
 TEST(VerifySurface, FoldedAdjacentTrianglesAreASelfIntersection) {
   // A square pyramid; then its apex is moved into the base plane, inside the base, so each
   // side triangle folds flat onto the base triangle it shares an edge with.
