@@ -4,9 +4,9 @@
 #include "core/boundary_overlap.h"
 
 #include <algorithm>
-#include <exception>
 #include <cmath>
 #include <cstdint>
+#include <exception>
 #include <numeric>
 #include <unordered_map>
 

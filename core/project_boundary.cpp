@@ -8,8 +8,8 @@
 #include <limits>
 #include <algorithm>
 #include <cmath>
-#include <string>
 #include <exception>
+#include <string>
 
 namespace dthex {
 namespace {

@@ -43,9 +43,8 @@ namespace {
 // The frames of a hex (its 8 corners, or some of them, and the centre), their determinants
 // and squared edge lengths gathered first and their roots and quotients taken after: each
 // frame's value is a chain of roots and a division, and independent chains side by side
-// run several at once. The expressions are Verdict's, in the same order as before (each
-// edge length is the root of its squared length, as Eigen's norm() takes it), so the
-// values are bit for bit what a frame-at-a-time loop gives.
+// run several at once. Verdict's expressions, to a few ulps (the lengths' product is one
+// root, see scaled_jacobians()).
 struct Frames {
   int count = 0;
   //! Frames past `count` hold 1s: the fixed-length loops below run over all nine.
@@ -69,8 +68,8 @@ struct Frames {
   //! det / (|e1| |e2| |e3|) of frames [0, count); 0 for a zero-length edge. The lengths'
   //! product is the root of the squared lengths' product, one root instead of three (the
   //! roots were the smoother's bottleneck), in loops without branches that the compiler
-  //! runs two frames at a time; where that product leaves the normal range (edges under
-  //! 1e-100 or over 1e100) the lengths are taken one by one.
+  //! runs several frames at a time; where that product is below 1e-150 or above 1e150 (its
+  //! square leaves the range of doubles) the lengths are taken one by one.
   void scaled_jacobians(double* sj) const {
     double lengths[9];
     for (int f = 0; f < 9; ++f) lengths[f] = std::sqrt(sq1[f] * sq2[f] * sq3[f]);
@@ -119,6 +118,7 @@ struct Frames {
 
 namespace {
 
+//! Verdict's shape 3 t^(2/3) = 3 t / t^(1/3); 0 for an inverted frame (t < 0).
 double shape_from_t(double worst_t) { return worst_t < 0 ? 0.0 : 3.0 * worst_t * inverse_cube_root(worst_t); }
 
 }  // namespace
