@@ -8,11 +8,11 @@
 //   build/benchmark                      every surface in meshes/
 //   build/benchmark --only femur --csv femur.csv
 //   build/benchmark --subdivide 2 meshes/femur_proximal_ct.off   (Loop-subdivided twice: 16x triangles)
-#include "core/pipeline.h"
-#include "core/read_surface.h"
-#include "core/report.h"
-#include "core/surface_mesh.h"
-#include "core/write_surface.h"
+#include <dthex/io/read_surface.h>
+#include <dthex/io/write_surface.h>
+#include <dthex/mesh/surface_mesh.h>
+#include <dthex/pipeline/pipeline.h>
+#include <dthex/report/report.h>
 
 #include <CLI/CLI.hpp>
 #include <OpenMesh/Tools/Subdivider/Uniform/LoopT.hh>

@@ -5,11 +5,11 @@
 // Usage: coarsen_bench [--only EPS] [--split-from N] MESH.off [MESH2.off ...]
 //        (--only: one coarsening per mesh at EPS, timing only, for profiling;
 //         --split-from: CoarsenOptions::split_from_vertices, 0 = never in two halves)
-#include "core/coarsen.h"
-#include "core/quality.h"
-#include "core/read_surface.h"
-#include "core/verify_surface.h"
-#include "core/surface_mesh.h"
+#include <dthex/io/read_surface.h>
+#include <dthex/mesh/quality.h>
+#include <dthex/mesh/surface_mesh.h>
+#include <dthex/surface/coarsen.h>
+#include <dthex/surface/verify_surface.h>
 
 #include <OpenMesh/Core/Utils/Noncopyable.hh>
 #include <OpenMesh/Core/System/omstream.hh>

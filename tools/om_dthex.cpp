@@ -3,12 +3,12 @@
 // Exit codes: 0 success; 2 bad input or usage, or an output that cannot be written
 // (missing or unwritable folder, a directory, disk full, file-size limit); 3 meshing
 // failed; 1 internal error; 128 + N when stopped by signal N (130 for Ctrl-C).
-#include "core/atomic_file.h"
-#include "core/pipeline.h"
-#include "core/report.h"
-#include "core/report_html.h"
-#include "core/write_hex_mesh.h"
-#include "core/write_surface.h"
+#include <dthex/io/atomic_file.h>
+#include <dthex/io/write_hex_mesh.h>
+#include <dthex/io/write_surface.h>
+#include <dthex/pipeline/pipeline.h>
+#include <dthex/report/report.h>
+#include <dthex/report/report_html.h>
 
 #include <CLI/CLI.hpp>
 

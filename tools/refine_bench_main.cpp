@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
 // Times the refinement core on one surface: TetGen vs THex vs dicing.
 // Usage: refine_bench SURFACE.off [tetgen switches, default pq1.2Y] [dice n, default 2]
-#include "core/read_surface.h"
-#include "core/conformity.h"
-#include "core/dice.h"
-#include "core/quality.h"
-#include "core/tetrahedralize.h"
-#include "core/thex.h"
+#include <dthex/hexes/conformity.h>
+#include <dthex/hexes/dice.h>
+#include <dthex/hexes/thex.h>
+#include <dthex/io/read_surface.h>
+#include <dthex/mesh/quality.h>
+#include <dthex/tets/tetrahedralize.h>
 
 #include <chrono>
 #include <cstdio>

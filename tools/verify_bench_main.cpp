@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 // Times reading and verifying surfaces: verify_bench FILE... (prints one line per file).
 // verify_bench --bvh N times building a TriangleBvh over a sphere of about N triangles.
-#include "core/read_surface.h"
-#include "core/triangle_bvh.h"
-#include "core/verify_surface.h"
+#include <dthex/io/read_surface.h>
+#include <dthex/mesh/triangle_bvh.h>
+#include <dthex/surface/verify_surface.h>
 
 #include <chrono>
 #include <cmath>

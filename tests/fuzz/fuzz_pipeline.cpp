@@ -4,7 +4,7 @@
 // end in a result, an InputError (bad input) or a MeshingError (a stage gave up):
 // never a crash, a hang or another exception. A result must be a hex mesh whose
 // connectivity refers to existing, finite nodes.
-#include "core/pipeline.h"
+#include <dthex/pipeline/pipeline.h>
 
 #include <cstdint>
 #include <cstdio>

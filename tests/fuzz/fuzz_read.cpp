@@ -2,7 +2,7 @@
 // libFuzzer target: every surface reader on arbitrary bytes. The first byte picks the
 // format, the rest is the file. A reader may refuse (InputError) but must never crash,
 // hang, read out of bounds or throw anything else; what it accepts must be well formed.
-#include "core/read_surface.h"
+#include <dthex/io/read_surface.h>
 
 #include <cmath>
 #include <cstdint>

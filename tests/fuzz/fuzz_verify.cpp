@@ -5,7 +5,7 @@
 // Verification may refuse (InputError) but must never crash or throw anything else, and
 // what it accepts must satisfy its promises: indices in range, every edge shared by
 // exactly two triangles, positive enclosed volume (when self-intersections are checked).
-#include "core/verify_surface.h"
+#include <dthex/surface/verify_surface.h>
 
 #include <cstdint>
 #include <cstdlib>

@@ -1,0 +1,124 @@
+// SPDX-License-Identifier: MIT
+// The whole DTHex pipeline as one call: read and verify, coarsen, tet-mesh, THex,
+// dice, project onto the input surface, untangle, measure. The om_dthex command and
+// the benchmark harness both run it; writing files is left to the caller.
+#pragma once
+
+#include <dthex/boundary/local_smooth.h>
+#include <dthex/mesh/quality.h>
+#include <dthex/mesh/triangle_bvh.h>
+#include <dthex/mesh/types.h>
+#include <dthex/pipeline/progress.h>
+
+#include <memory>
+#include <string>
+
+namespace dthex {
+
+struct PipelineOptions {
+  double eps = 0.1;                 //!< coarsening factor (sagitta / radius), in (0, 1)
+  int dice = 2;                     //!< each hex into dice^3
+  double h_min = 0;                 //!< smallest coarse edge size, input units; 0 = automatic
+  double h_max = 0;                 //!< largest coarse edge, input units; 0 = automatic
+  double max_edge_ratio = 1.4142135623730951;  //!< no collapse makes an edge longer than this x its size
+  //! Size at most this x the wall thickness; 0 = curvature alone (see
+  //! CoarsenOptions::max_size_per_thickness for what each gives).
+  double thickness_ratio = 0;
+  //! With thickness_ratio 0: when the curvature-sized mesh ends with poor hexes (inverted or
+  //! scaled Jacobian below 0.2) and at least 5% of the input vertices lie on walls thinner
+  //! than their size, mesh again with thickness_ratio 1 and keep the better of the two
+  //! (conforming first, then fewer inverted hexes, then the higher minimum scaled Jacobian).
+  //! Not with target_nodes (the second mesh would miss the budget).
+  bool thickness_retry = true;
+  bool thex_only = false;           //!< classic THex of the input: no coarsening, dicing, projection
+  bool project = true;              //!< put the boundary back on the input surface
+  bool strict = false;              //!< fail (MeshingError) if an inverted hex remains
+  //! Hexes the local smoother leaves below scaled Jacobian 0.2 get a region repair
+  //! (repair_worst_hexes.h); off only to measure what it brings.
+  bool repair_worst_hexes = true;
+  //! How far (a fraction of the input's bounding-box diagonal) the nodes of a knife edge (a
+  //! convex crease under 30 degrees) may slide off it; 0 keeps knife edges sharp. See
+  //! LocalSmoothOptions::knife_edge_slide.
+  double knife_edge_slide = LocalSmoothOptions().knife_edge_slide;
+  //! TetGen switches; empty = tetgen_switches_for's default for the method.
+  std::string tetgen_switches;
+  double time_limit_seconds = 600;  //!< bound for TetGen and the optimizer each
+  bool global_smoothing = false;    //!< smooth the coarse surface globally (the paper's comparison)
+  bool judge_after_smoothing = true;  //!< CoarsenOptions::judge_after_smoothing
+  //! If > 0, eps is chosen so the final mesh has about this many nodes (within 10%);
+  //! InputError, with the nearest reachable count, when no eps gets there.
+  size_t target_nodes = 0;
+  //! Remesh the input with even triangles before coarsening (remesh_isotropic.h): automatic
+  //! when needles are kRemeshNeedleShare or more of its triangles (CAD exports), always, or never.
+  enum class Remesh { automatic, always, never };
+  Remesh remesh = Remesh::automatic;
+};
+
+struct StageRecord {
+  std::string name;
+  double seconds = 0;
+  std::string detail;
+};
+
+struct SurfaceSummary {
+  size_t vertices = 0, triangles = 0, components = 0, cavities = 0;
+  int genus = 0;
+  double volume = 0, bbox_diagonal = 0;
+  size_t flipped_components = 0;
+  QualityStats shape;
+};
+
+struct PipelineResult {
+  std::string input_path;
+  double eps = 0;                     //!< the coarsening factor used (chosen by --target-nodes or given)
+  TriSurface input;
+  SurfaceSummary input_summary;
+  //! The input remeshed with even triangles (PipelineOptions::remesh), which the coarsening
+  //! starts from; empty when it starts from the input itself. Projection and the distance
+  //! measurement always use the input.
+  TriSurface remeshed;
+  const TriSurface& coarsening_input() const { return remeshed.triangles.empty() ? input : remeshed; }
+  TriSurface coarse;                  //!< the surface TetGen meshed (the input itself for --thex-only)
+  SurfaceSummary coarse_summary;
+  size_t tets = 0;
+  QualityStats tet_shape;             //!< of the tets THex gets (after the edits that precede it)
+  HexMesh hexes;
+  HexQuality quality;
+  bool conforming = false;
+  //! Boundary faces lying inside the mesh (the boundary folded into the volume), and the
+  //! probe point of the first: part of `conforming`, named apart because it is geometric.
+  size_t boundary_faces_inside = 0;
+  Vec3 first_inside_point = Vec3::Zero();
+  double hausdorff = 0, mean_distance = 0;  //!< hex boundary vs input, input units
+  double hex_volume = 0;
+  size_t inverted_before_untangle = 0;
+  //! Input vertices sized by wall thickness (--thickness-ratio) or, with that off and poor
+  //! hexes left, on walls thinner than their size (what the summary's hint counts).
+  size_t thin_wall_vertices = 0;
+  //! The thickness ratio the kept mesh was sized with, and what the automatic retry did
+  //! (PipelineOptions::thickness_retry): "" when it did not run, else a sentence for the summary.
+  double thickness_ratio_used = 0;
+  std::string thickness_retry;
+  std::vector<size_t> worst_hexes;          //!< ids of the worst hexes by scaled Jacobian
+  std::vector<StageRecord> stages;
+  double total_seconds = 0;
+};
+
+//! THex's tets keep TetGen's radius-edge bound 1.2, as the paper's baseline and
+//! ../shared/notes/baselines.md run it. DTHex's coarse tets are diced, untangled and
+//! smoothed afterwards, and 1.5 lets TetGen put fewer points inside: on the bundled and
+//! shared meshes 4-28% fewer hex nodes, with every hex still above scaled Jacobian 0.2.
+constexpr const char* kThexTetgenSwitches = "pq1.2Y";
+constexpr const char* kDthexTetgenSwitches = "pq1.5Y";
+//! The switches a run uses: the given ones, else the method's default above.
+std::string tetgen_switches_for(const PipelineOptions& options);
+
+//! Reads and verifies only (InputError on a bad surface). `search_tree`, if given, receives
+//! the verification's search tree over result.input when it still fits (VerifyOptions).
+PipelineResult read_and_verify(const std::string& input_path, Progress& progress,
+                               std::unique_ptr<TriangleBvh>* search_tree = nullptr);
+
+//! Runs every stage. Throws InputError (bad input) or MeshingError (a stage failed).
+PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions& options, Progress& progress);
+
+}  // namespace dthex

@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+// TetGen behind a process wall: TetGen 1.5.0 crashes the whole process on bad input.
+#pragma once
+
+#include <dthex/mesh/types.h>
+
+#include <string>
+
+namespace dthex {
+
+struct TetgenOptions {
+  //! TetGen switches. Allowed: p q a A Y M T O S D c X J e n and numbers (digits . / - +);
+  //! 'Q' and 'z' are always added. Anything that makes TetGen write files, read files
+  //! or change the output layout (g k v N E F B f o r i m w h d V ...) is refused.
+  std::string switches = "pq1.2Y";
+  //! Wall-clock limit; TetGen is killed past it. Must be positive.
+  double time_limit_seconds = 300;
+};
+
+//! Tetrahedralizes the inside of a closed triangle surface with TetGen 1.5.0.
+//!
+//! TetGen runs in a fork()ed child process, which sends the mesh back through a pipe,
+//! because on a self-intersecting surface or a failed internal assert the library
+//! segfaults or aborts instead of throwing (see notes section 2); its stdout and stderr
+//! are sent to /dev/null. The surface's triangles are the input facets and each carries
+//! its own index as facet marker, so boundary_face_source is the input triangle a
+//! boundary face lies on. Output tets are positively oriented and boundary faces oriented
+//! outward (both are checked and fixed, not assumed).
+//! \throw InputError for invalid switches, a non-positive time limit, or a surface with
+//!        out-of-range or repeated triangle indices.
+//! \throw MeshingError when TetGen crashes, aborts, reports an error, exceeds the time
+//!        limit, or returns no tetrahedra; the message says which and the probable cause.
+TetMesh tetrahedralize(const TriSurface& surface, const TetgenOptions& options = {});
+
+}  // namespace dthex

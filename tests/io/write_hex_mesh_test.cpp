@@ -1,0 +1,295 @@
+// SPDX-License-Identifier: MIT
+// Every hex format is written, then read back by third-party readers (meshio; Python's
+// XML parser for FEBio) and by the referee hexeval.py, and compared with what we wrote.
+#include <dthex/io/write_hex_mesh.h>
+#include <dthex/mesh/quality.h>
+#include <dthex/mesh/types.h>
+#include "subprocess_util.h"
+
+#include <dthex/io/atomic_file.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+namespace fs = std::filesystem;
+using dthex::HexMesh;
+using dthex::Vec3;
+using nlohmann::json;
+
+namespace {
+
+//! An n x n x n block of hexes on a grid mapped through `place` (VTK corner order).
+template <typename Place>
+HexMesh make_block(int n, Place place) {
+  HexMesh mesh;
+  auto id = [n](int i, int j, int k) { return i + (n + 1) * (j + (n + 1) * k); };
+  for (int k = 0; k <= n; ++k)
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) {
+        mesh.nodes.push_back(place(i, j, k));
+        const bool boundary = i == 0 || j == 0 || k == 0 || i == n || j == n || k == n;
+        mesh.boundary_facet.push_back(boundary ? (i + j + k) % 5 : -1);
+      }
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        mesh.hexes.push_back({id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k), id(i, j, k + 1),
+                              id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)});
+  return mesh;
+}
+
+HexMesh unit_cubes() {
+  return make_block(2, [](int i, int j, int k) { return Vec3(i, j, k); });
+}
+
+//! Distorted (shape < 1) but valid hexes, with coordinates that need all 17 digits.
+HexMesh awkward_block() {
+  return make_block(2, [](int i, int j, int k) {
+    return Vec3(0.1 + 1e-13 + 0.7 * i + 0.05 * j * k, -3.3333333333333335 + 0.9 * j + 0.11 * std::sin(i + k),
+                1e5 + 1.0 / 3.0 + 1.3 * k + 0.07 * i * i);
+  });
+}
+
+fs::path fresh_folder(const std::string& name) {
+  return dthex_test::fresh_dir("hexwrite_" + name);
+}
+
+size_t count_files(const fs::path& dir) {
+  return size_t(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
+}
+
+// Reads a hex mesh with meshio (or, for .feb, with Python's XML parser) and prints JSON.
+const char* kReaderScript = R"PY(
+import json, sys
+import numpy as np
+path = sys.argv[1]
+out = {}
+if len(sys.argv) > 2 and sys.argv[2] == 'vtk':
+    # ParaView's readers: VTK's XML and legacy unstructured-grid readers
+    import vtk
+    from vtk.util import numpy_support as ns
+    r = vtk.vtkXMLUnstructuredGridReader() if path.endswith('.vtu') else vtk.vtkUnstructuredGridReader()
+    r.SetFileName(path)
+    r.Update()
+    g = r.GetOutput()
+    out['points'] = ns.vtk_to_numpy(g.GetPoints().GetData()).astype(float).tolist()
+    out['hexes'] = [g.GetCell(c).GetPointId(k) for c in range(g.GetNumberOfCells()) for k in range(8)]
+    out['other'] = [g.GetCellType(c) for c in range(g.GetNumberOfCells()) if g.GetCellType(c) != 12]
+    cd, pd = g.GetCellData(), g.GetPointData()
+    out['cell_data'] = {cd.GetArrayName(i): ns.vtk_to_numpy(cd.GetArray(i)).tolist() for i in range(cd.GetNumberOfArrays())}
+    out['point_data'] = {pd.GetArrayName(i): ns.vtk_to_numpy(pd.GetArray(i)).tolist() for i in range(pd.GetNumberOfArrays())}
+elif path.endswith('.feb'):
+    import xml.etree.ElementTree as ET
+    root = ET.parse(path).getroot()
+    mesh = root.find('Mesh')
+    nodes = mesh.find('Nodes').findall('node')
+    elements = mesh.find('Elements')
+    elems = elements.findall('elem')
+    out['points'] = [[float(v) for v in n.text.split(',')] for n in nodes]
+    out['hexes'] = [int(v) - 1 for e in elems for v in e.text.split(',')]
+    out['feb'] = dict(version=root.get('version'), element_type=elements.get('type'),
+                      part=elements.get('name'),
+                      domain=root.find('MeshDomains').find('SolidDomain').get('name'),
+                      node_ids=[int(n.get('id')) for n in nodes],
+                      elem_ids=[int(e.get('id')) for e in elems])
+    out['other'] = []
+else:
+    import meshio
+    m = meshio.read(path)
+    out['points'] = np.asarray(m.points, dtype=float).tolist()
+    out['hexes'] = [int(v) for c in m.cells if c.type == 'hexahedron' for v in np.asarray(c.data).ravel()]
+    out['other'] = [c.type for c in m.cells if c.type != 'hexahedron']
+    out['cell_data'] = {k: np.concatenate([np.asarray(a).ravel() for a in v]).tolist()
+                        for k, v in m.cell_data.items()}
+    out['point_data'] = {k: np.asarray(v).ravel().tolist() for k, v in m.point_data.items()}
+print(json.dumps(out))
+)PY";
+
+//! reader: "meshio" (meshio, or XML for .feb) or "vtk" (VTK's readers, as ParaView uses).
+json read_back(const fs::path& file, const std::string& reader = "meshio") {
+  const fs::path script = file.parent_path() / "read_hex.py";
+  if (!fs::exists(script)) std::ofstream(script) << kReaderScript;
+  const auto result = dthex_test::run_command("/usr/bin/python3 " + dthex_test::shell_quote(script.string()) + " " +
+                                              dthex_test::shell_quote(file.string()) + " " + reader);
+  EXPECT_EQ(result.exit_code, 0) << "reading " << file << " failed";
+  if (result.exit_code != 0) return json();
+  return json::parse(result.output);
+}
+
+//! Same node count, coordinates bit-identical (%.17g and raw binary both round-trip), same
+//! hex count, connectivity identical.
+void expect_same_mesh(const HexMesh& mesh, const json& read, const std::string& what) {
+  ASSERT_TRUE(read.contains("points")) << what;
+  ASSERT_EQ(read["points"].size(), mesh.nodes.size()) << what;
+  double max_relative = 0;
+  for (size_t n = 0; n < mesh.nodes.size(); ++n)
+    for (int d = 0; d < 3; ++d) {
+      const double ours = mesh.nodes[n][d], theirs = read["points"][n][size_t(d)].get<double>();
+      max_relative = std::max(max_relative, std::abs(ours - theirs) / std::max(1.0, std::abs(ours)));
+      EXPECT_EQ(ours, theirs) << what << ": node " << n << " coordinate " << d;
+    }
+  EXPECT_LE(max_relative, 1e-12) << what;
+  ASSERT_EQ(read["hexes"].size(), 8 * mesh.hexes.size()) << what;
+  for (size_t h = 0; h < mesh.hexes.size(); ++h)
+    for (size_t c = 0; c < 8; ++c)
+      ASSERT_EQ(read["hexes"][8 * h + c].get<int>(), mesh.hexes[h][c]) << what << ": hex " << h << " corner " << c;
+  EXPECT_TRUE(read["other"].empty()) << what << ": unexpected cells " << read["other"].dump();
+}
+
+json run_hexeval(const fs::path& file) {
+  const std::string script = DTHEX_SHARED_DIR "/tools/hexeval.py";
+  const auto result = dthex_test::run_command("/usr/bin/python3 " + dthex_test::shell_quote(script) + " " +
+                                              dthex_test::shell_quote(file.string()) + " --json --no-probe 2>&1");
+  EXPECT_EQ(result.exit_code, 0) << "hexeval rejected " << file << ":\n" << result.output;
+  const size_t last_line = result.output.find_last_of('\n', result.output.size() - 2);
+  return json::parse(result.output.substr(last_line == std::string::npos ? 0 : last_line + 1));
+}
+
+}  // namespace
+
+TEST(WriteHexMesh, FormatFromExtension) {
+  using dthex::HexFormat;
+  EXPECT_EQ(dthex::hex_format_from_path("a/b.vtu"), HexFormat::Vtu);
+  EXPECT_EQ(dthex::hex_format_from_path("b.VTK"), HexFormat::Vtk);
+  EXPECT_EQ(dthex::hex_format_from_path("b.Msh"), HexFormat::GmshMsh41);
+  EXPECT_EQ(dthex::hex_format_from_path("b.inp"), HexFormat::AbaqusInp);
+  EXPECT_EQ(dthex::hex_format_from_path("b.feb"), HexFormat::FebioFeb);
+  EXPECT_EQ(dthex::hex_format_from_path("b.exo"), HexFormat::ExodusII);
+  EXPECT_EQ(dthex::hex_format_from_path("b.E"), HexFormat::ExodusII);
+  EXPECT_EQ(dthex::hex_format_from_path("x.y/b.ex2"), HexFormat::ExodusII);
+  EXPECT_EQ(dthex::supported_hex_extensions().size(), 8u);
+  try {
+    dthex::hex_format_from_path("mesh.stl");
+    FAIL() << "no InputError";
+  } catch (const dthex::InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("'.stl'"), std::string::npos) << message;
+    EXPECT_NE(message.find(".vtu"), std::string::npos) << message;
+    EXPECT_NE(message.find(".ex2"), std::string::npos) << message;
+  }
+  EXPECT_THROW(dthex::hex_format_from_path("mesh"), dthex::InputError);
+}
+
+class HexRoundTrip : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(HexRoundTrip, ThirdPartyReadersGetTheSameMesh) {
+  if (!dthex_test::meshio_available()) GTEST_SKIP() << "/usr/bin/python3 cannot import meshio";
+  const std::string ext = GetParam();
+  const fs::path dir = fresh_folder(ext.substr(1));
+  for (const auto& [mesh, name] : {std::pair{unit_cubes(), "cubes"}, std::pair{awkward_block(), "awkward"}}) {
+    const dthex::HexQuality quality = dthex::measure_hex_quality(mesh);
+    const fs::path file = dir / (std::string(name) + ext);
+    dthex::write_hex_mesh(mesh, file.string(), {quality.shape, quality.scaled_jacobian});
+    const json read = read_back(file);
+    expect_same_mesh(mesh, read, file.string());
+    if (ext == ".vtu" || ext == ".vtk") for (const std::string reader : {"meshio", "vtk"}) {
+      const json via = reader == "meshio" ? read : read_back(file, reader);
+      if (reader != "meshio") expect_same_mesh(mesh, via, file.string() + " read by " + reader);
+      ASSERT_TRUE(via["cell_data"].contains("shape")) << reader;
+      ASSERT_TRUE(via["cell_data"].contains("scaled_jacobian")) << reader;
+      for (size_t h = 0; h < mesh.hexes.size(); ++h) {
+        EXPECT_EQ(via["cell_data"]["shape"][h].get<double>(), quality.shape[h]) << reader;
+        EXPECT_EQ(via["cell_data"]["scaled_jacobian"][h].get<double>(), quality.scaled_jacobian[h]) << reader;
+      }
+      ASSERT_TRUE(via["point_data"].contains("boundary")) << reader;
+      for (size_t n = 0; n < mesh.nodes.size(); ++n)
+        EXPECT_EQ(via["point_data"]["boundary"][n].get<int>(), mesh.is_boundary_node(int(n)) ? 1 : 0) << reader;
+    }
+    if (ext == ".msh") {
+      ASSERT_TRUE(read["cell_data"].contains("gmsh:physical"));
+      for (const auto& tag : read["cell_data"]["gmsh:physical"]) EXPECT_EQ(tag.get<int>(), 1);
+    }
+    if (ext == ".feb") {
+      const json& feb = read["feb"];
+      EXPECT_EQ(feb["version"], "4.0");
+      EXPECT_EQ(feb["element_type"], "hex8");
+      EXPECT_EQ(feb["part"], feb["domain"]);
+      for (size_t n = 0; n < feb["node_ids"].size(); ++n) EXPECT_EQ(feb["node_ids"][n].get<size_t>(), n + 1);
+      for (size_t e = 0; e < feb["elem_ids"].size(); ++e) EXPECT_EQ(feb["elem_ids"][e].get<size_t>(), e + 1);
+    }
+    if (std::string(name) == "awkward") {
+      EXPECT_LT(quality.shape_stats.avg, 0.99);  // the comparison below must mean something
+      EXPECT_GT(quality.shape_stats.min, 0.0);
+    }
+    const bool refereed = ext == ".vtu" || ext == ".msh" || ext == ".inp" || ext == ".exo";
+    if (refereed && fs::exists(DTHEX_SHARED_DIR "/tools/hexeval.py")) {
+      const json report = run_hexeval(file);
+      EXPECT_EQ(report["nodes"].get<size_t>(), mesh.nodes.size());
+      EXPECT_EQ(report["hexes"].get<size_t>(), mesh.hexes.size());
+      EXPECT_TRUE(report["valid"].get<bool>()) << file;
+      EXPECT_NEAR(report["shape"]["avg"].get<double>(), quality.shape_stats.avg, 1e-9) << file;
+      EXPECT_NEAR(report["shape"]["min"].get<double>(), quality.shape_stats.min, 1e-9) << file;
+    }
+  }
+  EXPECT_EQ(count_files(dir), 3u) << "temporaries left behind";  // two meshes + the reader script
+}
+
+INSTANTIATE_TEST_SUITE_P(AllFormats, HexRoundTrip,
+                         ::testing::Values(".vtu", ".vtk", ".msh", ".inp", ".feb", ".exo", ".e", ".ex2"),
+                         [](const auto& info) { return info.param.substr(1); });
+
+TEST(WriteHexMesh, VtuIsRawAppendedWithExactDoubles) {
+  const fs::path dir = fresh_folder("vturaw");
+  const HexMesh mesh = awkward_block();
+  const std::string file = (dir / "m.vtu").string();
+  dthex::write_hex_mesh(mesh, file);
+  std::ifstream in(file, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(bytes.find("header_type=\"UInt64\""), std::string::npos);
+  EXPECT_NE(bytes.find("<AppendedData encoding=\"raw\">"), std::string::npos);
+  EXPECT_EQ(bytes.find("CellData"), std::string::npos) << "no fields given, no CellData";
+  // The first node's x must appear as its 8 raw bytes somewhere in the appended block.
+  const double x = mesh.nodes[0].x();
+  EXPECT_NE(bytes.find(std::string(reinterpret_cast<const char*>(&x), sizeof x)), std::string::npos);
+}
+
+TEST(WriteHexMesh, UnknownExtensionAndBadFolderAreInputErrors) {
+  const fs::path dir = fresh_folder("bad");
+  const HexMesh mesh = unit_cubes();
+  EXPECT_THROW(dthex::write_hex_mesh(mesh, (dir / "m.stl").string()), dthex::InputError);
+  EXPECT_THROW(dthex::write_hex_mesh(mesh, (dir / "missing" / "m.vtu").string()), dthex::InputError);
+  std::ofstream(dir / "plain_file") << "x";
+  EXPECT_THROW(dthex::write_hex_mesh(mesh, (dir / "plain_file" / "m.msh").string()), dthex::InputError);
+  HexMesh broken = mesh;
+  broken.hexes[3][5] = int(mesh.nodes.size());
+  EXPECT_THROW(dthex::write_hex_mesh(broken, (dir / "m.inp").string()), dthex::InputError);
+  EXPECT_THROW(dthex::write_hex_mesh(mesh, (dir / "m.vtu").string(), {{0.5}, {}}), dthex::InputError);
+  EXPECT_EQ(count_files(dir), 1u);  // only plain_file
+  if (::geteuid() != 0) {  // root may write into a read-only folder
+    const fs::path locked = fresh_folder("locked");
+    fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
+    EXPECT_THROW(dthex::write_hex_mesh(mesh, (locked / "m.vtu").string()), dthex::InputError);
+    fs::permissions(locked, fs::perms::owner_all);
+    EXPECT_EQ(count_files(locked), 0u);
+  }
+}
+
+TEST(WriteHexMesh, FailedWriteLeavesNoFile) {
+  // A file-size limit makes writes fail with EFBIG, as a full disk would with ENOSPC.
+  const HexMesh big = make_block(10, [](int i, int j, int k) { return Vec3(0.1 * i, 0.1 * j, 0.1 * k); });
+  for (const std::string ext : {".vtu", ".vtk", ".msh", ".inp", ".feb", ".exo"}) {
+    const fs::path dir = fresh_folder("full" + ext.substr(1));
+    const std::string file = (dir / ("m" + ext)).string();
+    const int code = dthex_test::run_with_file_size_limit(4096, [&] {
+      try {
+        dthex::write_hex_mesh(big, file);
+      } catch (const dthex::OutputError&) {  // exit 2: the user's disk, not a bug
+        return 0;
+      } catch (const dthex::InputError&) {
+        return 3;
+      } catch (const std::runtime_error&) {
+        return 2;
+      }
+      return 1;
+    });
+    EXPECT_EQ(code, 0) << ext << ": 0 = OutputError thrown, 1 = no error, 2 = other runtime_error, 3 = other InputError, -1 = killed";
+    EXPECT_EQ(count_files(dir), 0u) << ext;
+    // Without the limit the same write succeeds (so the failure above came from the limit).
+    dthex::write_hex_mesh(big, file);
+    EXPECT_GT(fs::file_size(file), 4096u) << ext;
+  }
+}

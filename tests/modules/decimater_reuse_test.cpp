@@ -1,0 +1,192 @@
+// SPDX-License-Identifier: MIT
+// The reuse case: an OpenMesh application that includes only the public module headers
+// (no core/), with OpenMesh's stock DecimaterT; and a count of collapses executed against
+// the modules' own verdict, stock DecimaterT vs RevalidatingDecimaterT.
+#include <dthex/modules/ModCurvatureSizingT.hh>
+#include <dthex/modules/ModEdgeSwapT.hh>
+#include <dthex/modules/ModLocalSmoothingT.hh>
+#include <dthex/modules/ModNormalizedLengthT.hh>
+#include <dthex/modules/RevalidatingDecimaterT.hh>
+
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Tools/Decimater/DecimaterT.hh>
+#include <gtest/gtest.h>
+
+#include <map>
+#include <type_traits>
+
+namespace {
+
+struct AppTraits : OpenMesh::DefaultTraits {
+  using Point = OpenMesh::Vec3d;
+  using Normal = OpenMesh::Vec3d;
+  FaceAttributes(OpenMesh::Attributes::Normal);
+};
+using AppMesh = OpenMesh::TriMesh_ArrayKernelT<AppTraits>;
+
+AppMesh app_icosphere(int levels) {
+  AppMesh mesh;
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<OpenMesh::Vec3d> p = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                                    {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                       {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                       {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                       {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  for (int level = 0; level < levels; ++level) {
+    std::map<std::pair<int, int>, int> mid;
+    auto midpoint = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      if (mid.count(key)) return mid[key];
+      p.push_back((p[size_t(a)] + p[size_t(b)]) / 2);
+      return mid[key] = int(p.size()) - 1;
+    };
+    std::vector<std::array<int, 3>> g;
+    for (const auto& tri : f) {
+      const int a = midpoint(tri[0], tri[1]), b = midpoint(tri[1], tri[2]), c = midpoint(tri[2], tri[0]);
+      g.insert(g.end(), {{tri[0], a, c}, {tri[1], b, a}, {tri[2], c, b}, {a, b, c}});
+    }
+    f = g;
+  }
+  std::vector<AppMesh::VertexHandle> vh;
+  for (auto& q : p) vh.push_back(mesh.add_vertex(q.normalized()));
+  for (const auto& tri : f) mesh.add_face(vh[size_t(tri[0])], vh[size_t(tri[1])], vh[size_t(tri[2])]);
+  return mesh;
+}
+
+//! Binary, always legal: just before each executed collapse (preprocess), asks the
+//! normalized-length module's own test and the topology test whether the collapse is
+//! allowed on the mesh as it is at that moment, and counts the ones that are not.
+template <class MeshT>
+class ModCheckT : public OpenMesh::Decimater::ModBaseT<MeshT> {
+ public:
+  DECIMATING_MODULE(ModCheckT, MeshT, Check);
+  explicit ModCheckT(MeshT& mesh) : Base(mesh, true) {}
+  void initialize() override { Base::mesh().get_property_handle(size_, dthex::size_property_name()); }
+  float collapse_priority(const CollapseInfo&) override { return float(Base::LEGAL_COLLAPSE); }
+  void preprocess_collapse(const CollapseInfo& ci) override {
+    auto& m = Base::mesh();
+    ++executed;
+    const double l = dthex::normalized_length((ci.p1 - ci.p0).norm(), m.property(size_, ci.v1), m.property(size_, ci.v0));
+    const bool ok = l < 1.0 && m.is_collapse_ok(ci.v0v1) &&
+                    dthex::ModNormalizedLengthT<MeshT>::collapse_keeps_shape(m, ci, size_, dthex::NormalizedLengthLimits{});
+    if (!ok) ++rejected;
+  }
+  size_t executed = 0, rejected = 0;
+
+ private:
+  OpenMesh::VPropHandleT<double> size_;
+};
+
+template <class Decimater>
+std::pair<size_t, size_t> run_with_check(AppMesh& mesh, bool callbacks, double eps, bool estimate = false) {
+  mesh.request_vertex_status();
+  mesh.request_edge_status();
+  mesh.request_face_status();
+  mesh.update_face_normals();
+  Decimater decimater(mesh);
+  typename dthex::ModCurvatureSizingT<AppMesh>::Handle sizing;
+  typename dthex::ModNormalizedLengthT<AppMesh>::Handle length;
+  typename dthex::ModEdgeSwapT<AppMesh>::Handle swap;
+  typename dthex::ModLocalSmoothingT<AppMesh>::Handle smoothing;
+  typename ModCheckT<AppMesh>::Handle check;
+  decimater.add(sizing);
+  dthex::CurvatureSizingOptions options;
+  options.eps = eps;
+  decimater.module(sizing).set_options(options);
+  decimater.add(length);
+  if (callbacks) {
+    decimater.add(swap);
+    decimater.add(smoothing);
+  }
+  decimater.add(check);  // last binary module: its preprocess sees the mesh as collapsed
+  if constexpr (std::is_same_v<Decimater, dthex::RevalidatingDecimaterT<AppMesh>>) {
+    if (estimate) {
+      OpenMesh::VPropHandleT<double> size = dthex::size_property(mesh);
+      decimater.set_priority_estimate([&mesh, size](const typename Decimater::CollapseInfo& ci) {
+        return dthex::ModNormalizedLengthT<AppMesh>::priority_estimate(mesh, size, ci);
+      });
+    }
+  }
+  EXPECT_TRUE(decimater.initialize());
+  decimater.decimate();
+  const auto& checker = decimater.module(check);
+  const std::pair<size_t, size_t> result{checker.executed, checker.rejected};
+  mesh.garbage_collection();
+  return result;
+}
+
+size_t boundary_edges(const AppMesh& mesh) {
+  size_t n = 0;
+  for (auto e : mesh.edges()) n += mesh.is_boundary(e);
+  return n;
+}
+
+}  // namespace
+
+TEST(DecimaterReuse, StockDecimaterCoarsensASphereWithModuleHeadersOnly) {
+  AppMesh mesh = app_icosphere(3);  // 642 vertices
+  mesh.request_vertex_status();
+  mesh.request_edge_status();
+  mesh.request_face_status();
+  {
+    OpenMesh::Decimater::DecimaterT<AppMesh> decimater(mesh);
+    dthex::ModCurvatureSizingT<AppMesh>::Handle sizing;
+    dthex::ModNormalizedLengthT<AppMesh>::Handle length;
+    decimater.add(sizing);
+    decimater.add(length);
+    ASSERT_TRUE(decimater.initialize());
+    EXPECT_GT(decimater.decimate(), 500u);
+  }
+  mesh.garbage_collection();
+  EXPECT_LT(mesh.n_vertices(), 60u);
+  EXPECT_GE(mesh.n_vertices(), 12u);
+  EXPECT_EQ(boundary_edges(mesh), 0u);
+  EXPECT_EQ(int(mesh.n_vertices()) - int(mesh.n_edges()) + int(mesh.n_faces()), 2);
+  // The sizing property is public: the app can read it.
+  OpenMesh::VPropHandleT<double> size;
+  ASSERT_TRUE(mesh.get_property_handle(size, dthex::size_property_name()));
+  for (auto v : mesh.vertices()) EXPECT_NEAR(mesh.property(size, v), dthex::sizing_alpha(0.1), 0.05);
+}
+
+TEST(DecimaterReuse, PriorityModuleAloneIsNotEnoughForInitialize) {
+  AppMesh mesh = app_icosphere(1);
+  mesh.request_vertex_status();
+  mesh.request_edge_status();
+  mesh.request_face_status();
+  OpenMesh::Decimater::DecimaterT<AppMesh> decimater(mesh);
+  dthex::ModCurvatureSizingT<AppMesh>::Handle sizing;
+  decimater.add(sizing);
+  EXPECT_FALSE(decimater.initialize());  // binary modules only: no priority module
+}
+
+TEST(DecimaterReuse, RevalidatingDecimaterNeverExecutesARejectedCollapse) {
+  size_t stock_rejected = 0, ours_rejected = 0, stock_executed = 0, ours_executed = 0;
+  for (double eps : {0.02, 0.05, 0.1}) {
+    AppMesh a = app_icosphere(4), b = app_icosphere(4), c = app_icosphere(4);
+    const auto stock = run_with_check<OpenMesh::Decimater::DecimaterT<AppMesh>>(a, true, eps);
+    const auto ours = run_with_check<dthex::RevalidatingDecimaterT<AppMesh>>(b, true, eps);
+    const auto lazy = run_with_check<dthex::RevalidatingDecimaterT<AppMesh>>(c, true, eps, true);
+    stock_executed += stock.first, stock_rejected += stock.second;
+    ours_executed += ours.first + lazy.first, ours_rejected += ours.second + lazy.second;
+    EXPECT_EQ(boundary_edges(b), 0u);
+    EXPECT_EQ(boundary_edges(c), 0u);
+    // Lazy evaluation keeps the greedy result close to the thorough one.
+    EXPECT_NEAR(double(lazy.first), double(ours.first), 0.05 * double(ours.first));
+  }
+  EXPECT_GT(ours_executed, 1000u);
+  EXPECT_EQ(ours_rejected, 0u);
+  // OpenMesh's DecimaterT only re-checks topology when it pops: after swaps and moves it
+  // executes collapses its own modules would now refuse.
+  EXPECT_GT(stock_rejected, 0u) << "stock executed " << stock_executed;
+  std::printf("collapses against the modules' verdict: stock DecimaterT %zu of %zu, RevalidatingDecimaterT %zu of %zu\n",
+              stock_rejected, stock_executed, ours_rejected, ours_executed);
+}
+
+TEST(DecimaterReuse, WithoutCallbacksStockDecimaterIsCorrect) {
+  AppMesh mesh = app_icosphere(4);
+  const auto stock = run_with_check<OpenMesh::Decimater::DecimaterT<AppMesh>>(mesh, false, 0.05);
+  EXPECT_GT(stock.first, 1000u);
+  EXPECT_EQ(stock.second, 0u);
+}

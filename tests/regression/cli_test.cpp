@@ -1,0 +1,261 @@
+// SPDX-License-Identifier: MIT
+// End-to-end tests of the om_dthex command: exit codes, messages, outputs.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <dthex/pipeline/pipeline.h>
+#include "subprocess_util.h"
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using dthex_test::CommandRun;
+using dthex_test::entries_in;
+using dthex_test::read_bytes;
+using dthex_test::write_bytes;
+
+// A whole meshing run under the sanitizer build takes minutes, not seconds; the bound only
+// has to turn a hang into a failure.
+CommandRun om_dthex(const std::string& args, const fs::path& dir) { return dthex_test::run_om_dthex(args, dir, "", 900); }
+
+fs::path scratch(const std::string& name) { return dthex_test::fresh_dir("cli_" + name); }
+
+std::string mesh(const std::string& name) { return std::string(DTHEX_SOURCE_DIR) + "/meshes/" + name; }
+
+bool have_referee() {
+  const std::string script = std::string(DTHEX_SHARED_DIR) + "/tools/hexeval.py";
+  return fs::exists(script) && std::system("/usr/bin/python3 -c 'import vtk, meshio, scipy' >/dev/null 2>&1") == 0;
+}
+
+}  // namespace
+
+TEST(Cli, HelpExplainsEveryOption) {
+  const fs::path dir = scratch("help");
+  const CommandRun r = om_dthex("--help", dir);
+  EXPECT_EQ(r.exit_code, 0);
+  for (const char* option : {"--output", "--eps", "--dice", "--hmax", "--thickness-ratio", "--thex-only", "--no-project", "--strict",
+                             "--tetgen", "--time-limit", "--report", "--coarse-surface", "--quiet", "--verbose"})
+    EXPECT_NE(r.out.find(option), std::string::npos) << option;
+}
+
+TEST(Cli, MissingInputFileIsExit2NamingTheFile) {
+  const fs::path dir = scratch("missing");
+  const CommandRun r = om_dthex((dir / "nope.off").string() + " -o " + (dir / "o.vtu").string(), dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("nope.off"), std::string::npos) << r.err;
+  EXPECT_EQ(entries_in(dir), 0u);
+}
+
+TEST(Cli, BadOptionValuesAreExit2NamingTheOption) {
+  const fs::path dir = scratch("badopt");
+  const std::string in = mesh("icosahedron.off");
+  const std::string out = " -o " + (dir / "o.vtu").string();
+  struct Case {
+    std::string args, option;
+  };
+  for (const Case& c : {Case{"--eps -0.1", "--eps"}, Case{"--eps 1", "--eps"}, Case{"--eps abc", "--eps"},
+                        Case{"--dice 0", "--dice"}, Case{"--hmax -1", "--hmax"}, Case{"--thickness-ratio -1", "--thickness-ratio"},
+                        Case{"--time-limit 0", "--time-limit"}}) {
+    const CommandRun r = om_dthex(in + out + " " + c.args, dir);
+    EXPECT_EQ(r.exit_code, 2) << c.args;
+    EXPECT_NE(r.err.find(c.option), std::string::npos) << c.args << ": " << r.err;
+  }
+  const CommandRun unknown = om_dthex(in + " -o " + (dir / "o.xyz").string(), dir);
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("--output"), std::string::npos) << unknown.err;
+  const CommandRun folder = om_dthex(in + " -o /nonexistent_dthex_folder/o.vtu", dir);
+  EXPECT_EQ(folder.exit_code, 2);
+  EXPECT_NE(folder.err.find("--output"), std::string::npos) << folder.err;
+  EXPECT_EQ(entries_in(dir), 0u);
+}
+
+TEST(Cli, OpenSurfaceIsRefusedAndWritesNothing) {
+  const fs::path dir = scratch("open");
+  // A tetrahedron with one face missing.
+  write_bytes(dir / "open.off", "OFF\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n");
+  const CommandRun r = om_dthex((dir / "open.off").string() + " -o " + (dir / "o.vtu").string() + " --report " +
+                             (dir / "r.json").string(),
+                         dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("open.off"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "o.vtu"));
+  EXPECT_FALSE(fs::exists(dir / "r.json"));
+  EXPECT_EQ(entries_in(dir), 1u);  // only the input
+}
+
+TEST(Cli, InwardSurfaceIsFlippedAndVerifies) {
+  const fs::path dir = scratch("inward");
+  const CommandRun r = om_dthex(mesh("heart.off") + " --verify-only", dir);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("flipped"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("15552 triangles"), std::string::npos) << r.out;
+}
+
+TEST(Cli, MeshesTheIcosahedronAndTheReportAgreesWithTheReferee) {
+  // The paper's coarse sphere itself: verification, coarsening (nothing to remove),
+  // TetGen, THex, dicing, projection onto itself, untangling, writing, the JSON report.
+  const fs::path dir = scratch("ico");
+  const fs::path out = dir / "ico.vtu", report = dir / "ico.json";
+  const CommandRun r = om_dthex(mesh("icosahedron.off") + " -q --dice 2 -o " + out.string() + " --report " + report.string(), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.out.empty());  // -q
+  ASSERT_TRUE(fs::exists(out));
+  const nlohmann::json j = nlohmann::json::parse(read_bytes(report));
+  const size_t nodes = j["hex"]["nodes"], hexes = j["hex"]["hexes"], tets = j["tets"]["count"];
+  EXPECT_EQ(hexes, 4 * 8 * tets);  // THex then dicing by 2
+  EXPECT_EQ(j["hex"]["inverted"], 0);
+  EXPECT_TRUE(j["hex"]["conforming"].get<bool>());
+  EXPECT_EQ(j["coarse"]["vertices"], 12);
+  if (!have_referee()) GTEST_SKIP() << "referee (python3-vtk9, meshio, scipy) not available";
+  const fs::path referee = dir / "referee.json";
+  const std::string command = "/usr/bin/python3 " + std::string(DTHEX_SHARED_DIR) + "/tools/hexeval.py " +
+                              out.string() + " --surface " + mesh("icosahedron.off") + " --json >" + referee.string();
+  EXPECT_EQ(std::system(command.c_str()), 0) << "referee says the mesh is not valid";
+  std::string text = read_bytes(referee);
+  while (!text.empty() && text.back() == '\n') text.pop_back();
+  const nlohmann::json h = nlohmann::json::parse(text.substr(text.rfind('\n') + 1));
+  EXPECT_TRUE(h["valid"].get<bool>());
+  EXPECT_EQ(h["nodes"].get<size_t>(), nodes);
+  EXPECT_EQ(h["hexes"].get<size_t>(), hexes);
+  EXPECT_NEAR(h["shape"]["avg"].get<double>(), j["hex"]["shape"]["avg"].get<double>(), 1e-9);
+  EXPECT_NEAR(h["shape"]["min"].get<double>(), j["hex"]["shape"]["min"].get<double>(), 1e-9);
+  EXPECT_NEAR(h["scaled_jacobian"]["min"].get<double>(), j["hex"]["scaled_jacobian"]["min"].get<double>(), 1e-9);
+  EXPECT_EQ(h["boundary_faces_inside_mesh"].get<size_t>(), j["hex"]["boundary_faces_inside"].get<size_t>());
+}
+
+TEST(Cli, DefaultsMeetThePapersSphereTargetAndJudgeInPlaceDoesNot) {
+  // Issue 5's sphere: eps 0.1, dice 3, at most 3000 nodes at default options (collapses
+  // judged after smoothing: 14 coarse vertices). --judge-in-place, the bound as the paper
+  // prints it, stops at 20 coarse vertices and 4441 nodes.
+  const fs::path dir = scratch("judge");
+  auto run = [&](const std::string& extra) {
+    const fs::path out = dir / "s.vtu", report = dir / "s.json";
+    const CommandRun r = om_dthex(mesh("sphere728.off") + " -q --dice 3" + extra + " -o " + out.string() +
+                                      " --report " + report.string(),
+                                  dir);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return nlohmann::json::parse(read_bytes(report));
+  };
+  const nlohmann::json j = run("");
+  EXPECT_LE(j["coarse"]["vertices"].get<size_t>(), 14u);
+  EXPECT_LE(j["hex"]["nodes"].get<size_t>(), 3000u);
+  EXPECT_EQ(j["hex"]["inverted"], 0);
+  const nlohmann::json in_place = run(" --judge-in-place");
+  EXPECT_GE(in_place["coarse"]["vertices"].get<size_t>(), 18u);
+  EXPECT_GT(in_place["hex"]["nodes"].get<size_t>(), 3000u);
+}
+
+TEST(Cli, WritesTheCoarseSurfaceAndItVerifies) {
+  const fs::path dir = scratch("coarse");
+  const fs::path coarse = dir / "coarse.off";
+  const CommandRun r = om_dthex(mesh("sphere728.off") + " -q --no-project -o " + (dir / "o.msh").string() +
+                             " --coarse-surface " + coarse.string(),
+                         dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_TRUE(fs::exists(coarse));
+  const CommandRun v = om_dthex(coarse.string() + " --verify-only", dir);
+  EXPECT_EQ(v.exit_code, 0) << v.err;
+  EXPECT_NE(v.out.find("genus 0"), std::string::npos) << v.out;
+  EXPECT_TRUE(fs::exists(dir / "o.msh"));
+}
+
+TEST(Cli, TargetNodesLandWithinTenPercent) {
+  const fs::path dir = scratch("target");
+  for (size_t target : {9000u, 16000u, 30000u}) {
+    const fs::path report = dir / "r.json";
+    // Projection moves nodes but adds none: --no-project keeps the test fast.
+    const CommandRun r = om_dthex(mesh("liver.off") + " -q --no-project --target-nodes " + std::to_string(target) +
+                                         " -o " + (dir / "o.vtu").string() + " --report " + report.string(),
+                                     dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(read_bytes(report));
+    const double nodes = j["hex"]["nodes"].get<double>();
+    EXPECT_NEAR(nodes, double(target), 0.1 * double(target)) << "target " << target;
+  }
+  const CommandRun low = om_dthex(mesh("liver.off") + " -q --target-nodes 500 -o " + (dir / "low.vtu").string(), dir);
+  EXPECT_EQ(low.exit_code, 2);
+  EXPECT_NE(low.err.find("--target-nodes"), std::string::npos) << low.err;
+  EXPECT_NE(low.err.find("at least"), std::string::npos) << low.err;
+  EXPECT_FALSE(fs::exists(dir / "low.vtu"));
+}
+
+// What om_dthex runs with no option is what the library's PipelineOptions hold, to the last
+// bit: the benchmark and the tests use the library's. The CLI's default for --max-edge-ratio
+// was sqrt 2 rounded to 1.41421, and the armadillo meshed to 1,672,687 nodes from the command
+// against 1,669,653 through the API.
+TEST(Cli, DefaultsAreTheLibrarysToTheLastBit) {
+  const fs::path dir = scratch("defaults");
+  const fs::path json = dir / "r.json";
+  const CommandRun r = om_dthex(mesh("icosahedron.off") + " -q -o " + (dir / "o.vtu").string() + " --report " + json.string(), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json options = nlohmann::json::parse(read_bytes(json))["options"];
+  const dthex::PipelineOptions defaults;
+  EXPECT_EQ(options["eps"].get<double>(), defaults.eps);
+  EXPECT_EQ(options["dice"].get<int>(), defaults.dice);
+  EXPECT_EQ(options["h_min"].get<double>(), defaults.h_min);
+  EXPECT_EQ(options["h_max"].get<double>(), defaults.h_max);
+  EXPECT_EQ(options["max_edge_ratio"].get<double>(), defaults.max_edge_ratio);
+  EXPECT_EQ(options["max_edge_ratio"].get<double>(), std::sqrt(2.0));
+  EXPECT_EQ(options["knife_edge_slide"].get<double>(), defaults.knife_edge_slide);
+  EXPECT_EQ(options["thickness_ratio"].get<double>(), defaults.thickness_ratio);
+  EXPECT_EQ(options["thickness_retry"].get<bool>(), defaults.thickness_retry);
+  EXPECT_EQ(options["time_limit_seconds"].get<double>(), defaults.time_limit_seconds);
+  EXPECT_EQ(options["tetgen"].get<std::string>(), dthex::kDthexTetgenSwitches);
+  EXPECT_EQ(options["remesh"].get<std::string>(), "auto");
+}
+
+TEST(Cli, HtmlReportWithTheThexBaseline) {
+  // --report picks the format by extension; --compare-thex adds the THex run to both.
+  const fs::path dir = scratch("html");
+  const fs::path html = dir / "r.html", json = dir / "r.json";
+  const std::string in = mesh("sphere728.off");
+  const CommandRun r = om_dthex(in + " -q --compare-thex -o " + (dir / "o.vtu").string() + " --report " + html.string(), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string page = read_bytes(html);
+  EXPECT_EQ(page.rfind("<!DOCTYPE html>", 0), 0u);
+  EXPECT_NE(page.find("data-series=\"thex\""), std::string::npos);
+  EXPECT_NE(page.find("<canvas id=\"view\""), std::string::npos);
+  const CommandRun j = om_dthex(in + " -q --compare-thex -o " + (dir / "o.vtu").string() + " --report " + json.string(), dir);
+  ASSERT_EQ(j.exit_code, 0) << j.err;
+  const nlohmann::json report = nlohmann::json::parse(read_bytes(json));
+  ASSERT_TRUE(report.contains("thex_baseline"));
+  const nlohmann::json& thex = report["thex_baseline"];
+  EXPECT_TRUE(thex["options"]["thex_only"].get<bool>());
+  EXPECT_EQ(thex["hex"]["hexes"].get<size_t>(), 4 * thex["tets"]["count"].get<size_t>());
+  EXPECT_EQ(thex["input"]["surface"]["triangles"], report["input"]["surface"]["triangles"]);
+  EXPECT_GT(thex["hex"]["hexes"].get<size_t>(), report["hex"]["hexes"].get<size_t>());  // THex meshes the fine input
+  // The HTML page shows the same counts as the JSON report.
+  EXPECT_NE(page.find("data-key=\"thex.hexes\">" + std::to_string(thex["hex"]["hexes"].get<size_t>()) + "<"),
+            std::string::npos);
+  // An unknown report format is refused before any meshing.
+  const CommandRun bad = om_dthex(in + " -q -o " + (dir / "b.vtu").string() + " --report " + (dir / "r.txt").string(), dir);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--report"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir / "b.vtu"));
+}
+
+TEST(Cli, UnwritableOutputFolderIsExit2NamingTheOption) {
+  // /proc/1 exists and is not writable even for root (the tests may run as root, where
+  // permission bits do not stop writes).
+  const fs::path dir = scratch("unwritable");
+  const std::string in = mesh("icosahedron.off"), out = " -o " + (dir / "o.vtu").string();
+  struct Case {
+    std::string args, option;
+  };
+  for (const Case& c : {Case{"-o /proc/1/o.vtu", "--output"}, Case{out + " --report /proc/1/r.html", "--report"},
+                        Case{out + " --coarse-surface /proc/1/c.off", "--coarse-surface"}}) {
+    const CommandRun r = om_dthex(in + " " + c.args, dir);
+    EXPECT_EQ(r.exit_code, 2) << c.args;
+    EXPECT_NE(r.err.find(c.option), std::string::npos) << c.args << ": " << r.err;
+    EXPECT_NE(r.err.find("not writable"), std::string::npos) << c.args << ": " << r.err;
+  }
+  EXPECT_EQ(entries_in(dir), 0u);
+}

@@ -1,0 +1,205 @@
+// SPDX-License-Identifier: MIT
+// The "done when" criteria of the projection issue, asserted through the pipeline API on
+// three bundled biological meshes (the liver at the issue's eps 0.1; the heart and the CT
+// femur at eps 0.2, which keeps them to seconds each): no inverted hex, min scaled Jacobian >= 0.2, conforming with a
+// closed boundary, Hausdorff <= 1% of the bounding-box diagonal, volume within 2%, average
+// shape at least 0.1 above classic THex of the same input, with fewer nodes.
+#include <dthex/pipeline/pipeline.h>
+
+#include <dthex/hexes/conformity.h>
+#include <dthex/io/read_surface.h>
+#include <dthex/io/write_surface.h>
+#include <dthex/surface/surface_distance.h>
+#include "scratch_dir.h"
+
+#include <gtest/gtest.h>
+
+#include <map>
+
+using namespace dthex;
+
+namespace {
+
+// Every edge of the boundary quads is used by exactly two of them: the boundary is closed.
+bool boundary_closed(const HexMesh& mesh) {
+  std::map<std::pair<int, int>, int> uses;
+  for (const auto& q : boundary_quads(mesh))
+    for (int i = 0; i < 4; ++i) ++uses[std::minmax(q[size_t(i)], q[size_t((i + 1) % 4)])];
+  for (const auto& [edge, n] : uses)
+    if (n != 2) return false;
+  return !uses.empty();
+}
+
+void expect_done_when(const std::string& mesh, double eps, int dice) {
+  const std::string path = std::string(DTHEX_SOURCE_DIR "/meshes/") + mesh;
+  Progress quiet;
+  PipelineOptions thex_options;
+  thex_options.thex_only = true;
+  const PipelineResult thex = run_pipeline(path, thex_options, quiet);
+
+  PipelineOptions options;
+  options.eps = eps;
+  options.dice = dice;
+  const PipelineResult r = run_pipeline(path, options, quiet);
+  SCOPED_TRACE(mesh);
+  EXPECT_EQ(r.quality.inverted, 0u);
+  EXPECT_GE(r.quality.scaled_jacobian_stats.min, 0.2);
+  EXPECT_TRUE(r.conforming);
+  EXPECT_TRUE(boundary_closed(r.hexes));
+  EXPECT_LE(r.hausdorff, 0.01 * r.input_summary.bbox_diagonal);
+  EXPECT_NEAR(r.hex_volume, r.input_summary.volume, 0.02 * r.input_summary.volume);
+  EXPECT_GE(r.quality.shape_stats.avg, thex.quality.shape_stats.avg + 0.1);
+  EXPECT_LT(r.hexes.nodes.size(), thex.hexes.nodes.size());
+}
+
+}  // namespace
+
+TEST(PipelineQuality, LiverMeetsDoneWhen) { expect_done_when("liver.off", 0.1, 2); }
+
+TEST(PipelineQuality, PapersSphereDicedByThreeIsSmallAndWellShaped) {
+  // Issue 5: sphere728, eps 0.1, dice 3: at most 3000 nodes, avg shape >= 0.85, min shape
+  // >= 0.6, no inverted hex (paper: 2473 nodes, avg 0.8298, min 0.5332), at default options
+  // (collapse bounds judged after smoothing: 14 coarse vertices; in place: 20, 4441 nodes).
+  // The coarse sphere must be meshed around one centre point: one tet per coarse triangle.
+  Progress quiet;
+  PipelineOptions options;
+  options.dice = 3;
+  const PipelineResult r = run_pipeline(DTHEX_SOURCE_DIR "/meshes/sphere728.off", options, quiet);
+  EXPECT_EQ(r.tets, r.coarse.triangles.size());
+  EXPECT_EQ(r.hexes.hexes.size(), 4u * 27u * r.tets);
+  EXPECT_LE(r.hexes.nodes.size(), 3000u);
+  EXPECT_EQ(r.quality.inverted, 0u);
+  EXPECT_GE(r.quality.shape_stats.avg, 0.85);
+  EXPECT_GE(r.quality.shape_stats.min, 0.6);
+  EXPECT_TRUE(r.conforming);
+}
+
+TEST(PipelineQuality, HeartMeetsDoneWhen) { expect_done_when("heart.off", 0.1, 2); }
+
+TEST(PipelineQuality, DthexTetsTakeTheLooserBoundAndFewerNodes) {
+  // THex keeps the paper's TetGen bound (radius-edge 1.2); DTHex's coarse tets take 1.5 unless
+  // switches are given. On the liver that is 14,575 nodes against 16,723, every hex still
+  // above 0.2: the interior points a tight bound adds each become 8 hexes after dicing.
+  PipelineOptions dthex, thex, given;
+  thex.thex_only = true;
+  given.tetgen_switches = "pq1.2Y";
+  EXPECT_EQ(tetgen_switches_for(thex), std::string("pq1.2Y"));
+  EXPECT_EQ(tetgen_switches_for(dthex), std::string("pq1.5Y"));
+  EXPECT_EQ(tetgen_switches_for(given), std::string("pq1.2Y"));
+  Progress quiet;
+  const std::string liver = DTHEX_SOURCE_DIR "/meshes/liver.off";
+  const PipelineResult loose = run_pipeline(liver, dthex, quiet);
+  const PipelineResult tight = run_pipeline(liver, given, quiet);
+  EXPECT_LT(loose.tets, tight.tets);
+  EXPECT_LT(double(loose.hexes.nodes.size()), 0.95 * double(tight.hexes.nodes.size()));
+  EXPECT_GE(loose.quality.scaled_jacobian_stats.min, 0.2);
+  EXPECT_EQ(loose.quality.inverted, 0u);
+}
+TEST(PipelineQuality, FemurMeetsDoneWhen) { expect_done_when("femur_proximal_ct.off", 0.2, 2); }
+
+//! A hollow body (a bone's marrow cavity, a heart's chamber) is a second, inner surface;
+//! TetGen fills what it encloses unless told otherwise, so the hexes must leave it empty:
+//! the volume is the shell's, and the inner surface is part of the boundary (a filled
+//! cavity made the volume +14% and the Hausdorff distance 1.5 radii of the inner sphere).
+TEST(PipelineQuality, HollowSphereLeavesItsCavityEmpty) {
+  TriSurface shell = read_surface(DTHEX_SOURCE_DIR "/meshes/sphere728.off");
+  const int offset = int(shell.points.size());
+  const size_t outer_triangles = shell.triangles.size();
+  for (int v = 0; v < offset; ++v) shell.points.push_back(0.5 * shell.points[size_t(v)]);
+  for (size_t t = 0; t < outer_triangles; ++t) {
+    const auto tri = shell.triangles[t];
+    shell.triangles.push_back({tri[0] + offset, tri[2] + offset, tri[1] + offset});  // facing the cavity
+  }
+  const std::string path = (dthex_test::fresh_dir("hollow_sphere") / "shell.off").string();
+  write_surface(shell, path);
+  // A wall a quarter of the diameter: sized by its thickness and at eps 0.05 (0.5 s; the
+  // defaults mesh it twice, 7 s, and the inner sphere's 58-vertex coarse version ends at
+  // Hausdorff 1.07%).
+  PipelineOptions options;
+  options.eps = 0.05;
+  options.thickness_ratio = 1;
+  Progress quiet;
+  const PipelineResult r = run_pipeline(path, options, quiet);
+  EXPECT_EQ(r.input_summary.cavities, 1u);
+  EXPECT_NEAR(r.hex_volume, r.input_summary.volume, 0.02 * r.input_summary.volume);
+  EXPECT_LE(r.hausdorff, 0.01 * r.input_summary.bbox_diagonal);
+  EXPECT_EQ(r.quality.inverted, 0u);
+  EXPECT_TRUE(r.conforming);
+  EXPECT_TRUE(boundary_closed(r.hexes));
+  // No node in the cavity: every one at radius 0.5 or more (less the facets' sagitta).
+  for (const Vec3& p : r.hexes.nodes) ASSERT_GT(p.norm(), 0.49);
+}
+
+namespace {
+
+// A lens of diameter 2 whose two spherical faces meet at its rim at `rim_degrees` (an ear
+// drum, a cut bone's grazing edge): a knife edge all round. `rings` rings of `per_ring`
+// vertices on each face, the rim shared.
+TriSurface lens(double rim_degrees, int per_ring, int rings) {
+  const double half = rim_degrees / 2 * M_PI / 180, radius = 1 / std::sin(half), drop = radius * std::cos(half);
+  TriSurface s;
+  for (int i = 0; i < per_ring; ++i) {
+    const double a = 2 * M_PI * i / per_ring;
+    s.points.emplace_back(std::cos(a), std::sin(a), 0);
+  }
+  for (double side : {1.0, -1.0}) {
+    std::vector<int> outer(static_cast<size_t>(per_ring));
+    for (int i = 0; i < per_ring; ++i) outer[size_t(i)] = i;
+    for (int k = rings - 1; k >= 0; --k) {
+      const double r = double(k) / rings, z = side * (std::sqrt(radius * radius - r * r) - drop);
+      std::vector<int> inner;
+      if (k == 0) {
+        inner.assign(size_t(per_ring), int(s.points.size()));
+        s.points.emplace_back(0, 0, z);
+      } else {
+        for (int i = 0; i < per_ring; ++i) {
+          const double a = 2 * M_PI * (i + 0.5 * ((rings - k) % 2)) / per_ring;
+          inner.push_back(int(s.points.size()));
+          s.points.emplace_back(r * std::cos(a), r * std::sin(a), z);
+        }
+      }
+      for (int i = 0; i < per_ring; ++i) {
+        const int j = (i + 1) % per_ring;
+        // Outward: counter-clockwise seen from above on the top face, clockwise below.
+        auto add = [&](int a, int b, int c) {
+          if (side > 0) s.triangles.push_back({a, b, c});
+          else s.triangles.push_back({a, c, b});
+        };
+        const bool shifted = (rings - k) % 2 == 1;
+        if (k == 0) {
+          add(outer[size_t(i)], outer[size_t(j)], inner[0]);
+        } else if (shifted) {
+          add(outer[size_t(i)], outer[size_t(j)], inner[size_t(i)]);
+          add(outer[size_t(j)], inner[size_t(j)], inner[size_t(i)]);
+        } else {
+          add(outer[size_t(i)], inner[size_t(j)], inner[size_t(i)]);
+          add(outer[size_t(i)], outer[size_t(j)], inner[size_t(j)]);
+        }
+      }
+      outer = inner;
+    }
+  }
+  return s;
+}
+
+}  // namespace
+
+// The lens's rim is a 24-degree knife edge. Held there, its nodes leave THex corners in the
+// wedge no smoother can open; free to slide off it by half a percent of the diagonal, the
+// worst hexes rise, and the rim is rounded off by no more than that.
+TEST(PipelineQuality, KnifeEdgeNodesSlideABoundedWay) {
+  const std::string path = (dthex_test::fresh_dir("lens") / "lens.off").string();
+  write_surface(lens(24, 32, 4), path);
+  PipelineOptions options;
+  options.thickness_ratio = 1;
+  options.repair_worst_hexes = false;  // the smoother alone: seconds, not half a minute
+  Progress quiet;
+  options.knife_edge_slide = 0;
+  const PipelineResult held = run_pipeline(path, options, quiet);
+  options.knife_edge_slide = 0.005;
+  const PipelineResult slid = run_pipeline(path, options, quiet);
+  EXPECT_EQ(slid.quality.inverted, 0u);
+  EXPECT_TRUE(slid.conforming);
+  EXPECT_GE(slid.quality.scaled_jacobian_stats.min, held.quality.scaled_jacobian_stats.min + 0.02);
+  EXPECT_LE(slid.hausdorff, held.hausdorff + 0.005 * slid.input_summary.bbox_diagonal);
+}
