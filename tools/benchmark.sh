@@ -1,0 +1,184 @@
+#!/usr/bin/env bash
+# Measures DTHex against THex on the bundled meshes and writes docs/BENCHMARKS.md: a header
+# with the commit, the date (UTC) and the machine, then the benchmark harness's tables
+# (build/benchmark, tools/benchmark_main.cpp). It also rewrites the headline table in
+# README.md (between its "headline-table" markers) from the same run, so the README's
+# figures and docs/BENCHMARKS.md always come from one measurement.
+#
+#   bash tools/benchmark.sh                    bundled meshes, plus the femur subdivided once
+#   bash tools/benchmark.sh --scaling "1 2"    scaling rows for 1 and 2 Loop subdivisions
+#   bash tools/benchmark.sh --scaling ""       no scaling rows
+#   bash tools/benchmark.sh --build DIR        use DIR/benchmark (default: build/)
+#   bash tools/benchmark.sh --no-readme        leave README.md as it is
+#   bash tools/benchmark.sh --output FILE      write FILE instead of docs/BENCHMARKS.md
+#   bash tools/benchmark.sh --only NAME        only bundled meshes whose file name contains NAME
+#                                              (a partial table: use with --output, --no-readme)
+#
+# Each run is a child process of the harness with a timeout (--timeout, default 400 s).
+# Wall-clock seconds depend on the machine and on what else runs on it: run it on an idle one.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+repo=$(pwd)
+
+build=build
+scaling="1"
+scaling_mesh=meshes/femur_proximal_ct.off
+timeout=400
+update_readme=1
+output=docs/BENCHMARKS.md
+only=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --build) build=$2; shift 2 ;;
+    --scaling) scaling=$2; shift 2 ;;
+    --scaling-mesh) scaling_mesh=$2; shift 2 ;;
+    --timeout) timeout=$2; shift 2 ;;
+    --no-readme) update_readme=0; shift ;;
+    --only) only=$2; shift 2 ;;
+    --output) output=$2; shift 2 ;;
+    -h|--help) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "benchmark.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
+  esac
+done
+
+bench="$build/benchmark"
+shown="$(basename "$build")/benchmark"  # as the files name it: no path outside the repository
+if [ ! -x "$bench" ]; then
+  echo "benchmark.sh: $bench not found; build first (bash tools/setup.sh)" >&2
+  exit 2
+fi
+
+# The sources the binary was built from: the build's CMake source folder, if it is a git tree.
+source_dir=$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$build/CMakeCache.txt" 2>/dev/null || true)
+[ -n "$source_dir" ] || source_dir=$repo
+if git -C "$source_dir" rev-parse --git-dir >/dev/null 2>&1; then
+  commit=$(git -C "$source_dir" rev-parse --short HEAD)
+  if [ -n "$(git -C "$source_dir" status --porcelain --untracked-files=no)" ]; then
+    tree="with uncommitted changes"
+  else
+    tree="clean"
+  fi
+else
+  commit="unknown (not a git tree)"
+  tree="unknown"
+fi
+build_type=$(sed -n 's/^CMAKE_BUILD_TYPE:STRING=//p' "$build/CMakeCache.txt" 2>/dev/null || true)
+compiler=$(sed -n 's/^CMAKE_CXX_COMPILER:FILEPATH=//p' "$build/CMakeCache.txt" 2>/dev/null || true)
+compiler_version=$("${compiler:-c++}" --version 2>/dev/null | head -n 1 || echo unknown)
+
+cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -n 1)
+cores=$(nproc 2>/dev/null || echo "?")
+memory_gib=$(awk '/^MemTotal:/ { printf "%.1f", $2 / 1048576 }' /proc/meminfo)
+os=$(. /etc/os-release 2>/dev/null && echo "${PRETTY_NAME:-unknown}")
+kernel=$(uname -r)
+load=$(cut -d' ' -f1-3 /proc/loadavg)
+started=$(date -u '+%Y-%m-%d %H:%M UTC')
+
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+echo "benchmark.sh: bundled meshes ($bench, timeout $timeout s per run)" >&2
+status=0
+"$bench" --meshes meshes ${only:+--only "$only"} --timeout "$timeout" --markdown --csv "$work/bundled.csv" >"$work/bundled.md" || status=$?
+for k in $scaling; do
+  echo "benchmark.sh: $scaling_mesh Loop-subdivided $k times, DTHex only" >&2
+  "$bench" "$scaling_mesh" --methods dthex --subdivide "$k" --work-dir "$work/subdivided" --timeout "$timeout" \
+    --markdown --csv "$work/scaling_$k.csv" >"$work/scaling_$k.md" || status=$?
+done
+finished=$(date -u '+%H:%M UTC')
+load_end=$(cut -d' ' -f1-3 /proc/loadavg)
+
+# One row per mesh and method from the harness's CSV: the README's headline columns.
+headline() {
+  awk -F, '
+    function commas(n,   s, out) {
+      s = sprintf("%d", n); out = ""
+      while (length(s) > 3) { out = "," substr(s, length(s) - 2) out; s = substr(s, 1, length(s) - 3) }
+      return s out
+    }
+    NR == 1 { for (i = 1; i <= NF; ++i) col[$i] = i; next }
+    {
+      method = $col["method"] == "dthex" ? "DTHex" : "THex"
+      if ($col["status"] != "ok") {
+        printf "| %s | %s | %s | | | | | | |\n", $col["mesh"], method, $col["status"]
+        next
+      }
+      printf "| %s | %s | %s | %s | %.3f | %.3f | %s | %.3f | %.2f |\n", $col["mesh"], method,
+             commas($col["nodes"]), commas($col["hexes"]), $col["shape_avg"], $col["sj_min"],
+             $col["conforming"] == "yes" && $col["inverted"] == 0 ? "yes" : "NO", $col["hausdorff_pct"],
+             $col["total_seconds"]
+    }' "$1"
+}
+
+{
+  echo "| mesh | method | nodes | hexes | avg shape | min scaled Jacobian | valid, conforming | Hausdorff % | seconds |"
+  echo "|---|---|---:|---:|---:|---:|---|---:|---:|"
+  headline "$work/bundled.csv"
+} >"$work/headline.md"
+
+machine="$cpu, $cores cores, $memory_gib GiB, $os (Linux $kernel)"
+mkdir -p "$(dirname "$output")"
+{
+  echo "# Benchmarks"
+  echo
+  echo "Written by \`bash tools/benchmark.sh\`; do not edit by hand (run it again instead)."
+  echo
+  echo "- Commit: \`$commit\` ($tree), built $build_type with $compiler_version"
+  echo "- Date: $started to $finished"
+  echo "- Machine: $machine; load average $load at the start,"
+  echo "  $load_end at the end (above $cores, other work shared the cores and the seconds are longer)"
+  echo "- Harness: \`$shown --meshes meshes --timeout $timeout --markdown\` (each run alone in a child"
+  echo "  process; DTHex = \`om_dthex\` at its defaults, THex = \`om_dthex --thex-only\`: TetGen \`pq1.2Y\`"
+  echo "  of the input, 4 hexes per tet)"
+  echo
+  echo "Columns: nodes and hexes of the output; shape is Knupp's hex shape metric and \"min SJ\" the"
+  echo "smallest hex scaled Jacobian, both as Verdict (ParaView, VTK) defines them (1 ideal, 0 or"
+  echo "less degenerate or inverted); Hausdorff is the two-sided distance between the hex mesh's"
+  echo "boundary and the input surface, in % of the input's bounding-box diagonal; volume error is"
+  echo "against the input's volume; seconds are the run's wall time and peak MB its largest resident"
+  echo "set. Times vary from run to run on a shared machine; the other columns do not."
+  echo
+  echo "## DTHex against THex, the bundled meshes"
+  echo
+  echo "The README's headline table:"
+  echo
+  cat "$work/headline.md"
+  echo
+  echo "All columns:"
+  echo
+  cat "$work/bundled.md"
+  echo
+  if [ -n "$scaling" ]; then
+    echo
+    echo "## Scaling with input size"
+    echo
+    echo "\`$scaling_mesh\` Loop-subdivided K times (4^K times the triangles), DTHex only"
+    echo "(\`$shown $scaling_mesh --methods dthex --subdivide K --markdown\`)."
+    echo "The bundled table above is K = 0."
+    for k in $scaling; do
+      echo
+      echo "### K = $k"
+      echo
+      cat "$work/scaling_$k.md"
+      echo
+    done
+  fi
+} >"$output"
+echo "benchmark.sh: wrote $output" >&2
+
+if [ "$update_readme" = 1 ] && grep -q '<!-- headline-table:begin -->' README.md; then
+  {
+    echo "Measured $started on $cpu ($cores cores), commit \`$commit\`; every column and"
+    echo "per-stage seconds in [docs/BENCHMARKS.md](docs/BENCHMARKS.md)."
+    echo
+    cat "$work/headline.md"
+  } >"$work/readme_table.md"
+  awk -v table="$work/readme_table.md" '
+    /<!-- headline-table:begin -->/ { print; while ((getline line < table) > 0) print line; skipping = 1; next }
+    /<!-- headline-table:end -->/ { skipping = 0 }
+    !skipping { print }' README.md >"$work/README.md"
+  cat "$work/README.md" >README.md
+  echo "benchmark.sh: updated the headline table in README.md" >&2
+fi
+cat "$work/headline.md"
+exit "$status"
