@@ -126,7 +126,12 @@ mkdir -p "$(dirname "$output")"
   echo "- Commit: \`$commit\` ($tree), built $build_type with $compiler_version"
   echo "- Date: $started to $finished"
   echo "- Machine: $machine; load average $load at the start,"
-  echo "  $load_end at the end (above $cores, other work shared the cores and the seconds are longer)"
+  busy=$(awk -v a="${load%% *}" -v b="${load_end%% *}" -v c="$cores" 'BEGIN { print (a > c / 2 || b > c / 2) ? 1 : 0 }')
+  if [ "$busy" = 1 ]; then
+    echo "  $load_end at the end: other work shared the cores, so the seconds are longer than on an idle machine"
+  else
+    echo "  $load_end at the end"
+  fi
   echo "- Harness: \`$shown --meshes meshes --timeout $timeout --markdown\` (each run alone in a child"
   echo "  process; DTHex = \`om_dthex\` at its defaults, THex = \`om_dthex --thex-only\`: TetGen \`pq1.2Y\`"
   echo "  of the input, 4 hexes per tet)"
