@@ -76,17 +76,33 @@ started=$(date -u '+%Y-%m-%d %H:%M UTC')
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
+: >"$work/cpu"
+
+# CPU time of the whole machine (/proc/stat) and of our runs (bash's time), so the header can
+# say how much of the machine other work took while the tables were measured.
+machine_busy() { awk '/^cpu / { print $2 + $3 + $4 + $7 + $8; exit }' /proc/stat; }
+hz=$(getconf CLK_TCK 2>/dev/null || echo 100)
+TIMEFORMAT='%3U %3S'
+busy_before=$(machine_busy)
+wall_before=$(date +%s.%N)
 
 echo "benchmark.sh: bundled meshes ($bench, timeout $timeout s per run)" >&2
 status=0
-"$bench" --meshes meshes ${only:+--only "$only"} --timeout "$timeout" --markdown --csv "$work/bundled.csv" >"$work/bundled.md" || status=$?
+{ time "$bench" --meshes meshes ${only:+--only "$only"} --timeout "$timeout" --markdown --csv "$work/bundled.csv" \
+    >"$work/bundled.md" 2>&3 || status=$?; } 3>&2 2>>"$work/cpu"
 for k in $scaling; do
   echo "benchmark.sh: $scaling_mesh Loop-subdivided $k times, DTHex only" >&2
-  "$bench" "$scaling_mesh" --methods dthex --subdivide "$k" --work-dir "$work/subdivided" --timeout "$timeout" \
-    --markdown --csv "$work/scaling_$k.csv" >"$work/scaling_$k.md" || status=$?
+  { time "$bench" "$scaling_mesh" --methods dthex --subdivide "$k" --work-dir "$work/subdivided" --timeout "$timeout" \
+      --markdown --csv "$work/scaling_$k.csv" >"$work/scaling_$k.md" 2>&3 || status=$?; } 3>&2 2>>"$work/cpu"
 done
 finished=$(date -u '+%H:%M UTC')
-load_end=$(cut -d' ' -f1-3 /proc/loadavg)
+busy_after=$(machine_busy)
+wall_after=$(date +%s.%N)
+# Share of the machine's CPU time (cores x wall time) that processes other than ours used.
+others=$(awk -v b0="$busy_before" -v b1="$busy_after" -v hz="$hz" -v w0="$wall_before" -v w1="$wall_after" \
+  -v c="$cores" '{ ours += $1 + $2 } END {
+    total = (b1 - b0) / hz; avail = (w1 - w0) * c; other = total - ours; if (other < 0) other = 0
+    printf "%.0f", (avail > 0 ? 100 * other / avail : 0) }' "$work/cpu")
 
 # One row per mesh and method from the harness's CSV: the README's headline columns.
 headline() {
@@ -125,12 +141,12 @@ mkdir -p "$(dirname "$output")"
   echo
   echo "- Commit: \`$commit\` ($tree), built $build_type with $compiler_version"
   echo "- Date: $started to $finished"
-  echo "- Machine: $machine; load average $load at the start,"
-  busy=$(awk -v a="${load%% *}" -v b="${load_end%% *}" -v c="$cores" 'BEGIN { print (a > c / 2 || b > c / 2) ? 1 : 0 }')
-  if [ "$busy" = 1 ]; then
-    echo "  $load_end at the end: other work shared the cores, so the seconds are longer than on an idle machine"
+  echo "- Machine: $machine; load average $load at the start;"
+  if [ "$others" -ge 10 ]; then
+    echo "  other processes used $others% of the CPU time while it ran, so the seconds are longer"
+    echo "  than on an idle machine (the other columns do not depend on it)"
   else
-    echo "  $load_end at the end"
+    echo "  other processes used $others% of the CPU time while it ran"
   fi
   echo "- Harness: \`$shown --meshes meshes --timeout $timeout --markdown\` (each run alone in a child"
   echo "  process; DTHex = \`om_dthex\` at its defaults, THex = \`om_dthex --thex-only\`: TetGen \`pq1.2Y\`"
