@@ -104,7 +104,8 @@ others=$(awk -v b0="$busy_before" -v b1="$busy_after" -v hz="$hz" -v w0="$wall_b
     total = (b1 - b0) / hz; avail = (w1 - w0) * c; other = total - ours; if (other < 0) other = 0
     printf "%.0f", (avail > 0 ? 100 * other / avail : 0) }' "$work/cpu")
 
-# One row per mesh and method from the harness's CSV: the README's headline columns.
+# One row per mesh from the harness's CSV, THex beside DTHex: the README's headline columns.
+# A last line says whether every mesh was valid (no inverted hex) and conforming.
 headline() {
   awk -F, '
     function commas(n,   s, out) {
@@ -112,25 +113,39 @@ headline() {
       while (length(s) > 3) { out = "," substr(s, length(s) - 2) out; s = substr(s, 1, length(s) - 3) }
       return s out
     }
+    function pair(a, b) { return a " / " b }
     NR == 1 { for (i = 1; i <= NF; ++i) col[$i] = i; next }
     {
-      method = $col["method"] == "dthex" ? "DTHex" : "THex"
-      if ($col["status"] != "ok") {
-        printf "| %s | %s | %s | | | | | | |\n", $col["mesh"], method, $col["status"]
-        next
+      mesh = $col["mesh"]; m = $col["method"]
+      if (!(mesh in seen)) { seen[mesh] = 1; order[++count] = mesh }
+      ok[mesh, m] = $col["status"] == "ok"
+      status[mesh, m] = $col["status"]
+      nodes[mesh, m] = commas($col["nodes"]); hexes[mesh, m] = commas($col["hexes"])
+      shape[mesh, m] = sprintf("%.3f", $col["shape_avg"]); sj[mesh, m] = sprintf("%.3f", $col["sj_min"])
+      hd[mesh, m] = sprintf("%.3f", $col["hausdorff_pct"]); sec[mesh, m] = sprintf("%.2f", $col["total_seconds"])
+      if (ok[mesh, m] && ($col["inverted"] != 0 || $col["conforming"] != "yes")) bad = bad " " mesh " (" m ")"
+    }
+    END {
+      print "| mesh | nodes THex / DTHex | hexes THex / DTHex | avg shape | min scaled Jacobian | Hausdorff % | seconds |"
+      print "|---|---:|---:|---:|---:|---:|---:|"
+      for (i = 1; i <= count; ++i) {
+        x = order[i]
+        if (!ok[x, "thex"] || !ok[x, "dthex"]) {
+          printf "| %s | THex %s, DTHex %s | | | | | |\n", x, status[x, "thex"], status[x, "dthex"]
+          continue
+        }
+        printf "| %s | %s | %s | %s | %s | %s | %s |\n", x, pair(nodes[x, "thex"], nodes[x, "dthex"]),
+               pair(hexes[x, "thex"], hexes[x, "dthex"]), pair(shape[x, "thex"], shape[x, "dthex"]),
+               pair(sj[x, "thex"], sj[x, "dthex"]), pair(hd[x, "thex"], hd[x, "dthex"]),
+               pair(sec[x, "thex"], sec[x, "dthex"])
       }
-      printf "| %s | %s | %s | %s | %.3f | %.3f | %s | %.3f | %.2f |\n", $col["mesh"], method,
-             commas($col["nodes"]), commas($col["hexes"]), $col["shape_avg"], $col["sj_min"],
-             $col["conforming"] == "yes" && $col["inverted"] == 0 ? "yes" : "NO", $col["hausdorff_pct"],
-             $col["total_seconds"]
+      print ""
+      if (bad == "") print "Every mesh above is valid (no inverted hex) and conforming, in both methods."
+      else print "Not valid or not conforming:" bad "."
     }' "$1"
 }
 
-{
-  echo "| mesh | method | nodes | hexes | avg shape | min scaled Jacobian | valid, conforming | Hausdorff % | seconds |"
-  echo "|---|---|---:|---:|---:|---:|---|---:|---:|"
-  headline "$work/bundled.csv"
-} >"$work/headline.md"
+headline "$work/bundled.csv" >"$work/headline.md"
 
 machine="$cpu, $cores cores, $memory_gib GiB, $os (Linux $kernel)"
 mkdir -p "$(dirname "$output")"
@@ -189,8 +204,9 @@ echo "benchmark.sh: wrote $output" >&2
 
 if [ "$update_readme" = 1 ] && grep -q '<!-- headline-table:begin -->' README.md; then
   {
-    echo "Measured $started on $cpu ($cores cores), commit \`$commit\`; every column and"
-    echo "per-stage seconds in [docs/BENCHMARKS.md](docs/BENCHMARKS.md)."
+    echo "Measured $started on $cpu ($cores cores), commit \`$commit\`$([ "$others" -ge 10 ] &&
+      echo ", with other work using $others% of the CPU time (longer seconds)"); every column and"
+    echo "the seconds per stage in [docs/BENCHMARKS.md](docs/BENCHMARKS.md):"
     echo
     cat "$work/headline.md"
   } >"$work/readme_table.md"
