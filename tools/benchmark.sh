@@ -58,6 +58,10 @@ if git -C "$source_dir" rev-parse --git-dir >/dev/null 2>&1; then
   else
     tree="clean"
   fi
+  # A binary older than the commit was built from an earlier one (or the build is stale).
+  if [ "$(stat -c %Y "$bench")" -lt "$(git -C "$source_dir" log -1 --format=%ct)" ]; then
+    tree="$tree; but $shown is older than this commit, so it may be an earlier one's"
+  fi
 else
   commit="unknown (not a git tree)"
   tree="unknown"
