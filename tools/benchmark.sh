@@ -13,6 +13,8 @@
 #   bash tools/benchmark.sh --output FILE      write FILE instead of docs/BENCHMARKS.md
 #   bash tools/benchmark.sh --only NAME        only bundled meshes whose file name contains NAME
 #                                              (a partial table: use with --output, --no-readme)
+#   bash tools/benchmark.sh --source-commit REV  the commit the binary was built from, when the
+#                                              build folder's sources have moved on since
 #
 # Each run is a child process of the harness with a timeout (--timeout, default 400 s).
 # Wall-clock seconds depend on the machine and on what else runs on it: run it on an idle one.
@@ -27,6 +29,7 @@ timeout=400
 update_readme=1
 output=docs/BENCHMARKS.md
 only=""
+source_commit=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build=$2; shift 2 ;;
@@ -35,8 +38,9 @@ while [ $# -gt 0 ]; do
     --timeout) timeout=$2; shift 2 ;;
     --no-readme) update_readme=0; shift ;;
     --only) only=$2; shift 2 ;;
+    --source-commit) source_commit=$2; shift 2 ;;
     --output) output=$2; shift 2 ;;
-    -h|--help) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "benchmark.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -51,7 +55,10 @@ fi
 # The sources the binary was built from: the build's CMake source folder, if it is a git tree.
 source_dir=$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$build/CMakeCache.txt" 2>/dev/null || true)
 [ -n "$source_dir" ] || source_dir=$repo
-if git -C "$source_dir" rev-parse --git-dir >/dev/null 2>&1; then
+if [ -n "$source_commit" ]; then
+  commit=$(git -C "$source_dir" rev-parse --short "$source_commit^{commit}" 2>/dev/null || echo "$source_commit")
+  tree="as given with --source-commit; HEAD of the sources is now $(git -C "$source_dir" rev-parse --short HEAD 2>/dev/null || echo unknown)"
+elif git -C "$source_dir" rev-parse --git-dir >/dev/null 2>&1; then
   commit=$(git -C "$source_dir" rev-parse --short HEAD)
   if [ -n "$(git -C "$source_dir" status --porcelain --untracked-files=no)" ]; then
     tree="with uncommitted changes"
