@@ -216,8 +216,8 @@ echo "benchmark.sh: wrote $output" >&2
 if [ "$update_readme" = 1 ] && grep -q '<!-- headline-table:begin -->' README.md; then
   {
     echo "Measured $started on $cpu ($cores cores), commit \`$commit\`$([ "$others" -ge 10 ] &&
-      echo ", with other work using $others% of the CPU time (longer seconds)"); every column and"
-    echo "the seconds per stage in [docs/BENCHMARKS.md](docs/BENCHMARKS.md):"
+      echo ", with other work using $others% of the CPU time (so longer seconds)"); all columns and the" \
+      "seconds per stage in [docs/BENCHMARKS.md](docs/BENCHMARKS.md):" | fmt -w 98
     echo
     cat "$work/headline.md"
   } >"$work/readme_table.md"
