@@ -2,6 +2,7 @@
 #include <dthex/boundary/local_smooth.h>
 
 #include <dthex/hexes/conformity.h>
+#include <dthex/mesh/incidence.h>
 #include <dthex/mesh/quality.h>
 
 #include <algorithm>
@@ -16,25 +17,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-struct Incidence {
-  int hex = 0;
-  int corner = 0;  //!< the node's local index in the hex
-};
-
 class NodeSmoother {
  public:
   NodeSmoother(HexMesh& mesh, const TriangleBvh& surface, const LocalSmoothOptions& options)
       : mesh_(mesh), surface_(surface), options_(options) {
     const size_t n = mesh.nodes.size();
-    node_hexes_.resize(n);
-    {
-      std::vector<int> count(n, 0);
-      for (const auto& hex : mesh.hexes)
-        for (int v : hex) ++count[size_t(v)];
-      for (size_t v = 0; v < n; ++v) node_hexes_[v].reserve(size_t(count[v]));
-    }
-    for (size_t h = 0; h < mesh.hexes.size(); ++h)
-      for (int i = 0; i < 8; ++i) node_hexes_[size_t(mesh.hexes[h][size_t(i)])].push_back({int(h), i});
+    node_hexes_ = NodeCellIncidence(n, mesh.hexes, true);
     is_boundary_ = boundary_nodes(mesh, options.boundary_nodes);
     sj_.resize(mesh.hexes.size());
     shape_.resize(mesh.hexes.size());
@@ -132,9 +120,9 @@ class NodeSmoother {
         }
         ++report.moves;
         ++move_count;
-        for (const Incidence& i : node_hexes_[size_t(v)]) {
-          for (int w : mesh_.hexes[size_t(i.hex)]) changed[size_t(w)] = move_count;
-          if (sj_[size_t(i.hex)] < target) queue.push({sj_[size_t(i.hex)], i.hex});
+        for (int g : node_hexes_[size_t(v)]) {
+          for (int w : mesh_.hexes[size_t(g)]) changed[size_t(w)] = move_count;
+          if (sj_[size_t(g)] < target) queue.push({sj_[size_t(g)], g});
         }
       }
     }
@@ -149,8 +137,8 @@ class NodeSmoother {
     std::vector<int> used_by;  // per colour: the last node that saw it taken by a neighbour
     for (size_t v = 0; v < wanted.size(); ++v) {
       if (!wanted[v]) continue;
-      for (const Incidence& i : node_hexes_[v])
-        for (int u : mesh_.hexes[size_t(i.hex)])
+      for (int h : node_hexes_[v])
+        for (int u : mesh_.hexes[size_t(h)])
           if (colour[size_t(u)] >= 0) used_by[size_t(colour[size_t(u)])] = int(v);
       int c = 0;
       while (c < int(classes.size()) && used_by[size_t(c)] == int(v)) ++c;
@@ -194,9 +182,9 @@ class NodeSmoother {
           if (!moved[size_t(v)]) continue;
           moved[size_t(v)] = 0;
           ++report.moves;
-          for (const Incidence& i : node_hexes_[size_t(v)])
-            if (shape_[size_t(i.hex)] < options_.shape_threshold)
-              for (int u : mesh_.hexes[size_t(i.hex)])
+          for (int g : node_hexes_[size_t(v)])
+            if (shape_[size_t(g)] < options_.shape_threshold)
+              for (int u : mesh_.hexes[size_t(g)])
                 if (options_.move_boundary || !is_boundary_[size_t(u)]) active[size_t(u)] = 1;
         }
       }
@@ -224,14 +212,14 @@ class NodeSmoother {
     Score s;
     s.min_sj = 1;
     s.min_shape = 1;
-    const auto& hexes = node_hexes_[size_t(v)];
+    const NodeCellIncidence::Entries hexes = node_hexes_.entries(size_t(v));
     const bool incremental = !scratch.around.empty();
     for (size_t k = 0; k < hexes.size(); ++k) {
       HexScaledJacobianAndShape q;
       if (incremental) {
         q = scratch.around[k].at(x, need_shape);
       } else {
-        auto corners = hex_corners(mesh_, size_t(hexes[k].hex));
+        auto corners = hex_corners(mesh_, size_t(hexes[k].cell));
         corners[size_t(hexes[k].corner)] = x;
         q = need_shape ? hex_scaled_jacobian_and_shape(corners) : HexScaledJacobianAndShape{hex_scaled_jacobian(corners), 0};
       }
@@ -240,7 +228,7 @@ class NodeSmoother {
       // raises the clipped sum could otherwise trade a valid hex for an inverted one: move
       // after move, nodes of a tangled region (skull_hollow) walked across the mesh.
       if (keep_valid) {
-        const double now = sj_[size_t(hexes[k].hex)];
+        const double now = sj_[size_t(hexes[k].cell)];
         if (now > 0 && q.scaled_jacobian < std::min(now, options_.target_scaled_jacobian)) return s;
       }
       s.min_sj = std::min(s.min_sj, q.scaled_jacobian);
@@ -310,8 +298,8 @@ class NodeSmoother {
     double length = 0;
     int n = 0;
     const Vec3& x = mesh_.nodes[size_t(v)];
-    for (const Incidence& i : node_hexes_[size_t(v)]) {
-      const auto& hex = mesh_.hexes[size_t(i.hex)];
+    for (const NodeCellIncidence::Entry i : node_hexes_.entries(size_t(v))) {
+      const auto& hex = mesh_.hexes[size_t(i.cell)];
       const auto frame = hex_corner_frame_nodes(i.corner);  // the corner and its 3 edge neighbours
       for (int k = 1; k < 4; ++k) {
         const Vec3& u = mesh_.nodes[size_t(hex[size_t(frame[size_t(k)])])];
@@ -325,7 +313,7 @@ class NodeSmoother {
   }
 
   bool improve_node(int v, bool shape_pass, Scratch& scratch) {
-    const auto& hexes = node_hexes_[size_t(v)];
+    const NodeCellIncidence::Entries hexes = node_hexes_.entries(size_t(v));
     if (hexes.empty()) return false;
     Vec3 x = mesh_.nodes[size_t(v)];
     const bool need_shape = shape_pass;
@@ -336,8 +324,8 @@ class NodeSmoother {
     Score current;
     current.valid = true;
     current.min_sj = current.min_shape = 1;
-    for (const Incidence& i : hexes) {
-      const double q = sj_[size_t(i.hex)], sh = need_shape ? shape_[size_t(i.hex)] : 0.0;
+    for (const NodeCellIncidence::Entry i : hexes) {
+      const double q = sj_[size_t(i.cell)], sh = need_shape ? shape_[size_t(i.cell)] : 0.0;
       current.min_sj = std::min(current.min_sj, q);
       current.clipped_sj_sum += std::min(q, options_.target_scaled_jacobian);
       current.shape_sum += sh;
@@ -393,7 +381,8 @@ class NodeSmoother {
     }
     if (!moved && (!shape_pass || current.min_shape < options_.compass_below_shape)) {
       // Many trials around one position: evaluate the hexes incrementally.
-      for (const Incidence& i : hexes) scratch.around.emplace_back(hex_corners(mesh_, size_t(i.hex)), i.corner);
+      for (const NodeCellIncidence::Entry i : hexes)
+        scratch.around.emplace_back(hex_corners(mesh_, size_t(i.cell)), i.corner);
       std::array<Vec3, 14> directions;
       size_t direction_count = 0;
       if (is_boundary_[size_t(v)]) {
@@ -445,17 +434,17 @@ class NodeSmoother {
   // Writes the node and its hexes' values (every hex of one node at a time, so nodes that
   // share no hex can be committed concurrently).
   bool commit_move(int v, const Vec3& x, const Scratch& scratch) {
-    const auto& hexes = node_hexes_[size_t(v)];
+    const NodeCellIncidence::Entries hexes = node_hexes_.entries(size_t(v));
     mesh_.nodes[size_t(v)] = x;
     for (size_t k = 0; k < hexes.size(); ++k)
-      sj_[size_t(hexes[k].hex)] = scratch.best_sj[k], shape_[size_t(hexes[k].hex)] = scratch.best_shape[k];
+      sj_[size_t(hexes[k].cell)] = scratch.best_sj[k], shape_[size_t(hexes[k].cell)] = scratch.best_shape[k];
     return true;
   }
 
   HexMesh& mesh_;
   const TriangleBvh& surface_;
   LocalSmoothOptions options_;
-  std::vector<std::vector<Incidence>> node_hexes_;
+  NodeCellIncidence node_hexes_;  //!< with corners
   std::vector<char> is_boundary_;
   std::vector<double> sj_, shape_;
   std::vector<Vec3> surface_normals_;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/boundary/repair_boundary_folds.h>
 
+#include <dthex/mesh/incidence.h>
 #include <dthex/mesh/quality.h>
 
 #include <algorithm>
@@ -32,33 +33,6 @@ struct QuadFold {
   bool inside = false;  //!< the probe lies in a hex: what find_boundary_faces_inside counts
   int hex = -1;         //!< then the hex where it lies deepest
   double value = 0;
-};
-
-//! The items (hexes, quads) at each node, in one array (a vector per node costs more than
-//! the whole repair on a mesh of a million nodes).
-struct Incidence {
-  struct Range {
-    const int *first = nullptr, *last = nullptr;
-    const int* begin() const { return first; }
-    const int* end() const { return last; }
-    size_t size() const { return size_t(last - first); }
-    bool empty() const { return first == last; }
-    int operator[](size_t i) const { return first[i]; }
-  };
-  std::vector<size_t> start;
-  std::vector<int> items;
-
-  template <size_t N>
-  Incidence(size_t nodes, const std::vector<std::array<int, N>>& cells) : start(nodes + 1, 0) {
-    for (const auto& c : cells)
-      for (int v : c) ++start[size_t(v) + 1];
-    for (size_t v = 0; v < nodes; ++v) start[v + 1] += start[v];
-    items.resize(start.back());
-    std::vector<size_t> next(start.begin(), start.end() - 1);
-    for (size_t i = 0; i < cells.size(); ++i)
-      for (int v : cells[i]) items[next[size_t(v)]++] = int(i);
-  }
-  Range operator[](size_t v) const { return {items.data() + start[v], items.data() + start[v + 1]}; }
 };
 
 class FoldRepairer {
@@ -252,7 +226,7 @@ class FoldRepairer {
 
   // The fold of quad q as the nodes are now; `moving` are hexes whose nodes moved since they
   // were listed in the grid (tested whatever cell they are listed in).
-  QuadFold fold_of(int q, Incidence::Range moving) {
+  QuadFold fold_of(int q, NodeCellIncidence::Range moving) {
     QuadFold f;
     f.has_probe = boundary_probe_point(mesh_, quads_[size_t(q)], owner_of(size_t(q)), options_.probe, f.probe);
     if (!f.has_probe) return f;
@@ -320,7 +294,7 @@ class FoldRepairer {
   // floor and turning no more of its quads inward; if so the move stays.
   bool try_move(int v, const Vec3& x, int inward_before) {
     const Vec3 old = mesh_.nodes[size_t(v)];
-    const Incidence::Range hexes = node_hexes_[size_t(v)];
+    const NodeCellIncidence::Range hexes = node_hexes_[size_t(v)];
     Box reach;
     for (int h : hexes) reach.extend(hex_box(h));
     // Each hex keeps min(its value, the floor): no hex falls below the floor, and one already
@@ -384,7 +358,7 @@ class FoldRepairer {
   // A compass search on v (in the tangent plane of the input surface for a boundary node),
   // the mean of its edge neighbours tried first.
   bool improve_node(int v) {
-    const Incidence::Range hexes = node_hexes_[size_t(v)];
+    const NodeCellIncidence::Range hexes = node_hexes_[size_t(v)];
     if (hexes.empty()) return false;
     const Vec3 x0 = mesh_.nodes[size_t(v)];
     Vec3 sum = Vec3::Zero();
@@ -477,7 +451,7 @@ class FoldRepairer {
   const std::vector<std::array<int, 4>>& quads_;
   const std::vector<int>& owners_;
   RepairBoundaryFoldsOptions options_;
-  Incidence node_hexes_, node_quads_;
+  NodeCellIncidence node_hexes_, node_quads_;
   std::vector<unsigned> hex_stamp_;
   unsigned stamp_ = 0;
   Clock::time_point deadline_;

@@ -2,6 +2,7 @@
 #include <dthex/boundary/untangle.h>
 
 #include <dthex/hexes/conformity.h>
+#include <dthex/mesh/incidence.h>
 #include <dthex/numerics/inverse_cube_root.h>
 
 #include <dthex/mesh/quality.h>
@@ -184,10 +185,7 @@ class Untangler {
       for (int v : mesh.hexes[h]) node_scale_[size_t(v)] += hex_size_[h], ++count[size_t(v)];
     }
     for (size_t v = 0; v < n_nodes; ++v) node_scale_[v] = count[v] ? node_scale_[v] / count[v] : 1.0;
-    node_hexes_.resize(n_nodes);
-    for (size_t v = 0; v < n_nodes; ++v) node_hexes_[v].reserve(size_t(count[v]));  // no regrowth
-    for (size_t h = 0; h < mesh.hexes.size(); ++h)
-      for (int v : mesh.hexes[h]) node_hexes_[size_t(v)].push_back(int(h));
+    node_hexes_ = NodeCellIncidence(n_nodes, mesh.hexes);
   }
 
   UntangleReport run() {
@@ -653,7 +651,7 @@ class Untangler {
   Clock::time_point deadline_;
   std::vector<bool> is_boundary_;
   std::vector<double> hex_size_, node_scale_;
-  std::vector<std::vector<int>> node_hexes_;
+  NodeCellIncidence node_hexes_;
   std::vector<double> scaled_jacobian_;  //!< per hex, kept up to date after every phase
   std::vector<char> in_region_;          //!< scratch of grow_region, all zero between calls
   std::vector<int> var_offset_;          //!< per node: first variable, -1 if it does not move

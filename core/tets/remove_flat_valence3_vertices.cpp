@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/tets/remove_flat_valence3_vertices.h>
 
+#include <dthex/mesh/incidence.h>
 #include <dthex/mesh/quality.h>
 
 #include <algorithm>
@@ -10,9 +11,7 @@ namespace dthex {
 
 size_t remove_flat_valence3_vertices(TriSurface& surface, const RemoveFlatValence3Options& options) {
   const size_t n = surface.points.size();
-  std::vector<std::vector<int>> vertex_triangles(n);
-  for (size_t t = 0; t < surface.triangles.size(); ++t)
-    for (int v : surface.triangles[t]) vertex_triangles[size_t(v)].push_back(int(t));
+  const NodeCellIncidence vertex_triangles(n, surface.triangles);
   std::set<std::array<int, 3>> triangle_keys;
   for (const auto& tri : surface.triangles) {
     std::array<int, 3> key = tri;
