@@ -2,6 +2,7 @@
 #include <dthex/boundary/local_smooth.h>
 
 #include <dthex/hexes/conformity.h>
+#include <dthex/mesh/graph_colouring.h>
 #include <dthex/mesh/incidence.h>
 #include <dthex/mesh/quality.h>
 
@@ -132,22 +133,14 @@ class NodeSmoother {
   // independent (each reads only its own hexes' nodes and writes only its own hexes'
   // values), so a colour can be swept by several threads with the same result as by one.
   std::vector<std::vector<int>> colour_classes(const std::vector<char>& wanted) const {
-    std::vector<int> colour(mesh_.nodes.size(), -1);
+    GreedyCellColouring colouring(mesh_.hexes.size());
     std::vector<std::vector<int>> classes;
-    std::vector<int> used_by;  // per colour: the last node that saw it taken by a neighbour
     for (size_t v = 0; v < wanted.size(); ++v) {
       if (!wanted[v]) continue;
-      for (int h : node_hexes_[v])
-        for (int u : mesh_.hexes[size_t(h)])
-          if (colour[size_t(u)] >= 0) used_by[size_t(colour[size_t(u)])] = int(v);
-      int c = 0;
-      while (c < int(classes.size()) && used_by[size_t(c)] == int(v)) ++c;
-      if (c == int(classes.size())) {
-        classes.emplace_back();
-        used_by.push_back(-1);
-      }
-      colour[v] = c;
-      classes[size_t(c)].push_back(int(v));
+      const NodeCellIncidence::Range hexes = node_hexes_[v];
+      const size_t c = colouring.add(hexes.begin(), hexes.end());
+      if (c == classes.size()) classes.emplace_back();
+      classes[c].push_back(int(v));
     }
     return classes;
   }

@@ -2,6 +2,7 @@
 #include <dthex/boundary/untangle.h>
 
 #include <dthex/hexes/conformity.h>
+#include <dthex/mesh/graph_colouring.h>
 #include <dthex/mesh/incidence.h>
 #include <dthex/numerics/inverse_cube_root.h>
 
@@ -350,20 +351,14 @@ class Untangler {
     // part already coloured uses on any of its hexes. 64 colours; a part that finds them all
     // taken is solved alone after the others.
     constexpr int kColours = 64;
-    std::vector<uint64_t> hex_colours(mesh_.hexes.size(), 0);
+    GreedyCellColouring colouring(mesh_.hexes.size(), kColours);
     std::vector<std::vector<size_t>> by_colour(kColours + 1);
     std::vector<int> hexes;
     for (size_t p = 0; p < parts.size(); ++p) {
       hexes.clear();
       for (size_t v : parts[p])
         for (int h : node_hexes_[v]) hexes.push_back(h);
-      uint64_t used = 0;
-      for (int h : hexes) used |= hex_colours[size_t(h)];
-      int colour = 0;
-      while (colour < kColours && (used >> colour & 1u)) ++colour;
-      if (colour < kColours)
-        for (int h : hexes) hex_colours[size_t(h)] |= uint64_t(1) << colour;
-      by_colour[size_t(colour)].push_back(p);
+      by_colour[colouring.add(hexes.data(), hexes.data() + hexes.size())].push_back(p);
     }
     for (size_t colour = 0; colour <= kColours && !report.time_limit_reached; ++colour) {
       const auto& batch = by_colour[colour];
