@@ -5,6 +5,7 @@
 #include <dthex/mesh/graph_colouring.h>
 #include <dthex/mesh/incidence.h>
 #include <dthex/numerics/inverse_cube_root.h>
+#include <dthex/numerics/lbfgs.h>
 
 #include <dthex/mesh/quality.h>
 
@@ -13,7 +14,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <deque>
 #include <limits>
 #include <numeric>
 
@@ -77,78 +77,6 @@ struct FrameBatch {
     }
   }
 };
-
-//! Limited-memory BFGS with Armijo backtracking. `f(z, grad)` returns the energy, or +inf
-//! for a point that must not be entered. Returns the number of iterations done;
-//! `start_energy` is f at the given z (the caller needs it, and need not evaluate it again).
-//! With `known_gradient`, the caller has evaluated f at z already: start_energy holds the
-//! value and known_gradient the gradient.
-template <class Energy>
-int minimize_lbfgs(Eigen::VectorXd& z, Energy&& f, int max_iterations, Clock::time_point deadline, bool& timed_out,
-                   double& start_energy, const Eigen::VectorXd* known_gradient = nullptr) {
-  const int memory = 8;
-  Eigen::VectorXd g(z.size()), g_new(z.size()), z_new(z.size()), d(z.size());
-  if (known_gradient) g = *known_gradient;
-  double fz = known_gradient ? start_energy : (start_energy = f(z, g));
-  if (!std::isfinite(fz)) return 0;
-  std::deque<Eigen::VectorXd> s_hist, y_hist;
-  std::deque<double> rho_hist;
-  int it = 0;
-  for (; it < max_iterations; ++it) {
-    if (Clock::now() > deadline) {
-      timed_out = true;
-      break;
-    }
-    // Two-loop recursion.
-    d = -g;
-    std::vector<double> alpha(s_hist.size());
-    for (int i = int(s_hist.size()) - 1; i >= 0; --i) {
-      alpha[size_t(i)] = rho_hist[size_t(i)] * s_hist[size_t(i)].dot(d);
-      d -= alpha[size_t(i)] * y_hist[size_t(i)];
-    }
-    if (!s_hist.empty()) d *= s_hist.back().dot(y_hist.back()) / y_hist.back().squaredNorm();
-    for (size_t i = 0; i < s_hist.size(); ++i) {
-      const double beta = rho_hist[i] * y_hist[i].dot(d);
-      d += (alpha[i] - beta) * s_hist[i];
-    }
-    double slope = g.dot(d);
-    if (s_hist.empty() || slope >= 0) {
-      // Steepest descent, capped at a tenth of the local edge length (variables are scaled by it).
-      d = -g;
-      const double biggest = d.lpNorm<Eigen::Infinity>();
-      if (biggest <= 0) break;
-      d *= std::min(1.0, 0.1 / biggest);
-      slope = g.dot(d);
-      s_hist.clear(), y_hist.clear(), rho_hist.clear();
-    }
-    double step = 1.0, f_new = kInf;
-    bool accepted = false;
-    for (int tries = 0; tries < 40; ++tries, step *= 0.5) {
-      z_new = z + step * d;
-      f_new = f(z_new, g_new);
-      if (std::isfinite(f_new) && f_new <= fz + 1e-4 * step * slope) {
-        accepted = true;
-        break;
-      }
-    }
-    if (!accepted) break;
-    const Eigen::VectorXd s = z_new - z, y = g_new - g;
-    const double sy = s.dot(y);
-    if (sy > 1e-12 * s.norm() * y.norm()) {
-      s_hist.push_back(s), y_hist.push_back(y), rho_hist.push_back(1.0 / sy);
-      if (int(s_hist.size()) > memory) s_hist.pop_front(), y_hist.pop_front(), rho_hist.pop_front();
-    }
-    const double decrease = fz - f_new;
-    z.swap(z_new);
-    g.swap(g_new);
-    fz = f_new;
-    if (decrease <= 1e-7 * std::max(1.0, std::abs(fz)) || g.lpNorm<Eigen::Infinity>() < 1e-9) {
-      ++it;
-      break;
-    }
-  }
-  return it;
-}
 
 //! The variables and energy terms of one repair or shape problem. Problems whose active
 //! hexes are disjoint touch disjoint entries of the per-node arrays, so each thread solves
@@ -457,9 +385,14 @@ class Untangler {
       // detmin is where z stands: the energy refuses no start, and its first value is the
       // round's starting energy (the same evaluation, not repeated).
       const double detmin_before = detmin;
-      bool timed_out = false;
-      double e_prev = start_known ? start_energy : kInf;
-      minimize_lbfgs(z, energy, max_iterations, deadline_, timed_out, e_prev, start_known ? &grad : nullptr);
+      LbfgsOptions lbfgs;
+      lbfgs.max_iterations = max_iterations;
+      lbfgs.deadline = deadline_;
+      lbfgs.max_steepest_step = 0.1;  // a tenth of the local edge length: variables are scaled by it
+      const LbfgsReport minimized =
+          start_known ? minimize_lbfgs(z, energy, lbfgs, start_energy, grad) : minimize_lbfgs(z, energy, lbfgs);
+      const bool timed_out = minimized.timed_out;
+      double e_prev = minimized.start_energy;
       start_known = false;
       if (!std::isfinite(e_prev)) e_prev = evaluate(ph, z, nullptr, eps, &detmin);  // z did not move
       apply(ph, z);
