@@ -2,6 +2,7 @@
 #include <dthex/boundary/project_boundary.h>
 
 #include <dthex/boundary/relax_boundary_nodes.h>
+#include <dthex/numerics/conjugate_gradient.h>
 
 #include <array>
 #include <cstdint>
@@ -38,70 +39,18 @@ struct HarmonicSystem {
   const std::vector<double>& degree;
   const std::vector<int>& row_start;
   const std::vector<int>& neighbours;
-};
 
-//! Jacobi-preconditioned conjugate gradients for K of the three coordinates (from `first`;
-//! rhs holds three per unknown), K independent recurrences sharing each pass over the
-//! adjacency. Each iteration makes three passes over the unknowns (product with p and p.q;
-//! updates, preconditioned residual and its two dot products; new direction): the solve is
-//! memory bound, and seven separate passes cost twice as much. Returns K values per unknown.
-template <int K>
-std::vector<double> solve_harmonic(const HarmonicSystem& a, const std::vector<double>& rhs, int first,
-                                   int max_iterations, double tolerance) {
-  const size_t n = size_t(a.n_unknowns), m = K * n;
-  std::vector<double> x(m, 0.0), r(m), z(m), p(m), q(m);
-  using Values = std::array<double, K>;
-  Values rhs_norm2{}, rz{};
-  for (size_t u = 0; u < n; ++u)
-    for (size_t c = 0; c < K; ++c) {
-      const size_t i = K * u + c;
-      r[i] = rhs[3 * u + size_t(first) + c];
-      z[i] = p[i] = r[i] / a.degree[u];
-      rhs_norm2[c] += r[i] * r[i];
-      rz[c] += r[i] * z[i];
+  size_t size() const { return size_t(n_unknowns); }
+  double diagonal(size_t u) const { return degree[u]; }
+  template <size_t K>
+  void multiply_row(size_t u, const double* p, std::array<double, K>& s) const {
+    for (size_t c = 0; c < K; ++c) s[c] = degree[u] * p[K * u + c];
+    for (int k = row_start[u]; k < row_start[u + 1]; ++k) {
+      const size_t w = K * size_t(neighbours[size_t(k)]);
+      for (size_t c = 0; c < K; ++c) s[c] -= p[w + c];
     }
-  Values r2 = rhs_norm2;
-  auto converged = [&](size_t c) { return r2[c] <= tolerance * tolerance * rhs_norm2[c]; };
-  auto all_converged = [&] {
-    for (size_t c = 0; c < K; ++c)
-      if (!converged(c)) return false;
-    return true;
-  };
-  for (int it = 0; it < max_iterations && !all_converged(); ++it) {
-    Values pq{};
-    for (size_t u = 0; u < n; ++u) {
-      Values s;
-      for (size_t c = 0; c < K; ++c) s[c] = a.degree[u] * p[K * u + c];
-      for (int k = a.row_start[u]; k < a.row_start[u + 1]; ++k) {
-        const size_t w = K * size_t(a.neighbours[size_t(k)]);
-        for (size_t c = 0; c < K; ++c) s[c] -= p[w + c];
-      }
-      for (size_t c = 0; c < K; ++c) {
-        q[K * u + c] = s[c];
-        pq[c] += p[K * u + c] * s[c];
-      }
-    }
-    Values alpha;
-    for (size_t c = 0; c < K; ++c) alpha[c] = converged(c) || !(pq[c] > 0) ? 0.0 : rz[c] / pq[c];
-    Values rz_new{};
-    r2 = Values{};
-    for (size_t u = 0; u < n; ++u)
-      for (size_t c = 0; c < K; ++c) {
-        const size_t i = K * u + c;
-        x[i] += alpha[c] * p[i];
-        r[i] -= alpha[c] * q[i];
-        z[i] = r[i] / a.degree[u];
-        rz_new[c] += r[i] * z[i];
-        r2[c] += r[i] * r[i];
-      }
-    Values beta;
-    for (size_t c = 0; c < K; ++c) beta[c] = rz[c] > 0 ? rz_new[c] / rz[c] : 0.0;
-    for (size_t i = 0; i < m; i += K)
-      for (size_t c = 0; c < K; ++c) p[i + c] = z[i + c] + beta[c] * p[i + c];
-    rz = rz_new;
   }
-  return x;
-}
+};
 
 }  // namespace
 
@@ -177,19 +126,22 @@ void move_interior_harmonically(HexMesh& mesh, const std::vector<Vec3>& boundary
   // them (the earlier split of each pass over two cores waited at a barrier per pass, and on a
   // busy machine, ctest -j2, each barrier waited for a descheduled thread).
   const HarmonicSystem system{n_unknowns, degree, row_start, neighbours};
+  ConjugateGradientOptions cg;
+  cg.max_iterations = max_iterations;
+  cg.tolerance = tolerance;
   std::vector<double> xy, z;
   std::exception_ptr failure[2];
 #pragma omp parallel sections num_threads(2)
   {
 #pragma omp section
     try {
-      xy = solve_harmonic<2>(system, rhs, 0, max_iterations, tolerance);
+      xy = solve_conjugate_gradient<2>(system, [&](size_t u, size_t c) { return rhs[3 * u + c]; }, cg);
     } catch (...) {
       failure[0] = std::current_exception();
     }
 #pragma omp section
     try {
-      z = solve_harmonic<1>(system, rhs, 2, max_iterations, tolerance);
+      z = solve_conjugate_gradient<1>(system, [&](size_t u, size_t) { return rhs[3 * u + 2]; }, cg);
     } catch (...) {
       failure[1] = std::current_exception();
     }
