@@ -24,7 +24,7 @@ class NodeSmoother {
       : mesh_(mesh), surface_(surface), options_(options) {
     const size_t n = mesh.nodes.size();
     node_hexes_ = NodeCellIncidence(n, mesh.hexes, true);
-    is_boundary_ = boundary_nodes(mesh, options.boundary_nodes);
+    is_boundary_ = boundary_nodes(mesh, options.constraints ? &options.constraints->on_boundary : nullptr);
     sj_.resize(mesh.hexes.size());
     shape_.resize(mesh.hexes.size());
 #pragma omp parallel for schedule(static) if (mesh.hexes.size() > 50000)
@@ -340,7 +340,8 @@ class NodeSmoother {
       // A node of the coarse surface's feature lines stays on any crease it sits on; another
       // one stays only on a convex crease (projection piles nodes of both neighbouring
       // facets onto a convex edge, and they trace it; on a concave one they are a mistake).
-      const bool held = !options_.feature_nodes || (*options_.feature_nodes)[size_t(v)];
+      const bool held = !options_.constraints || options_.constraints->on_feature.empty() ||
+                        options_.constraints->is_feature(size_t(v));
       if (on_surface_crease(surface_, surface_normals_, x, normal, 1e-6 * scale, min_normal_cos_, !held) &&
           !(near_knife_[size_t(v)] && on_knife_edge(x, normal, 1e-6 * scale)))
         return false;

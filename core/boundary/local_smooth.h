@@ -6,6 +6,7 @@
 // search over a handful of hexes) that can never lower the mesh's minimum.
 #pragma once
 
+#include <dthex/mesh/node_constraints.h>
 #include <dthex/mesh/triangle_bvh.h>
 #include <dthex/mesh/types.h>
 #include <dthex/surface/features.h>
@@ -50,14 +51,15 @@ struct LocalSmoothOptions {
   //! coarse organic surface (spot's ears) for features and pinned nodes there.
   bool move_boundary = true;
   double max_normal_turn_deg = kDefaultFeatureAngleDeg;
-  //! Optional, per node: the boundary nodes that belong on a feature line (see
-  //! nodes_on_feature_edges()). They are held on any crease they sit on; another node is
+  //! Optional: the mesh's node_constraints(), if the caller has them. Its on_boundary is
+  //! used (found here without it, or if it is not of the mesh's node count). Its on_feature
+  //! nodes belong on a feature line: they are held on any crease they sit on; another node is
   //! held only on a convex crease and may slide off a concave one, where projection put it
   //! by mistake. Without it every node on a crease stays: on the armadillo, boundary quads
   //! then lay with three corners on one concave crease, and the smoother could not raise
   //! them. Freeing every node that is not a coarse feature node took the fandisk's
   //! Hausdorff distance from 0.62% to 1.06%: its convex CAD edges lost their nodes.
-  const std::vector<char>* feature_nodes = nullptr;
+  const NodeConstraints* constraints = nullptr;
   //! A node on a knife edge (features.h: a convex crease whose faces meet at less than 30
   //! degrees) may slide off it down its faces, but no node that starts within this distance
   //! of a knife edge (a fraction of the surface's bounding-box diagonal) leaves that zone: the
@@ -68,9 +70,6 @@ struct LocalSmoothOptions {
   //! 0 holds them like any crease. Unbounded (no zone), the nodes of a 16-degree wedge
   //! of 8 triangles slid until it was cut off by 1.8% of its diagonal.
   double knife_edge_slide = 0.005;
-  //! Optional: boundary_nodes(mesh) (conformity.h), if the caller has it; without it (or if
-  //! its size is not the mesh's node count) they are found here.
-  const std::vector<char>* boundary_nodes = nullptr;
   double time_limit_seconds = 120.0;
 };
 

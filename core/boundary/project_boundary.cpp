@@ -214,9 +214,9 @@ ProjectReport project_boundary(HexMesh& mesh, const TriSurface& coarse, const Tr
   if (options.relax_rounds > 0) {
     RelaxBoundaryOptions relax;
     relax.rounds = options.relax_rounds;
-    relax.boundary_quads = options.boundary_quads;
+    relax.constraints = options.constraints;
     static const std::vector<char> none;
-    const std::vector<char>& held = options.held_nodes ? *options.held_nodes : none;
+    const std::vector<char>& held = options.constraints ? options.constraints->on_feature : none;
     report.relaxed_moves = relax_boundary_nodes(mesh, coarse, fine_bvh, held, displacement, relax).moves;
   }
   if (options.move_interior)

@@ -3,6 +3,7 @@
 // (fine) surface, and carry the interior nodes along so that they do not stay behind.
 #pragma once
 
+#include <dthex/mesh/node_constraints.h>
 #include <dthex/mesh/triangle_bvh.h>
 #include <dthex/mesh/types.h>
 
@@ -32,16 +33,17 @@ struct ProjectOptions {
   //! and ended at min scaled Jacobian 0.077 instead of 0.121.
   double interior_tolerance = 1e-5;
   //! Before the interior moves: rounds of boundary relaxation on the fine surface (see
-  //! relax_boundary_nodes(); 0 = none). The nodes marked in `held_nodes` (the coarse
+  //! relax_boundary_nodes(); 0 = none). The feature nodes of `constraints` (the coarse
   //! surface's feature lines) stay where projection put them. 3 rounds took the armadillo
   //! from min scaled Jacobian 0.154 to 0.169 and the aneurysm from 0.234 to 0.262; the
   //! fandisk's Hausdorff distance rose from 0.64% to 0.80% of its diagonal. Average shapes
   //! rise a little with more rounds, but the single worst hex moves either way (armadillo
   //! 0.152 after 1 round, 0.144 after 5; aneurysm 0.241 and 0.282).
   int relax_rounds = 3;
-  const std::vector<char>* held_nodes = nullptr;
-  //! Optional: boundary_quads(mesh) (conformity.h), if the caller has them, for the relaxation.
-  const std::vector<std::array<int, 4>>* boundary_quads = nullptr;
+  //! Optional: the mesh's node_constraints() (before projection), if the caller has them: its
+  //! feature nodes are held and its boundary quads used by the relaxation. Without them no
+  //! node is held and the quads are found here.
+  const NodeConstraints* constraints = nullptr;
 };
 
 struct ProjectReport {

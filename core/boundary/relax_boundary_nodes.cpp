@@ -17,8 +17,8 @@ RelaxBoundaryReport relax_boundary_nodes(HexMesh& mesh, const TriSurface& coarse
   // facet (or on one the coarse surface lacks) are left alone.
   std::vector<std::vector<int>> neighbours(n);
   std::vector<std::array<int, 4>> found;
-  if (!options.boundary_quads) found = boundary_quads(mesh);
-  for (const auto& q : options.boundary_quads ? *options.boundary_quads : found)
+  if (!options.constraints) found = boundary_quads(mesh);
+  for (const auto& q : options.constraints ? options.constraints->boundary_quads : found)
     for (int i = 0; i < 4; ++i) {
       const int a = q[size_t(i)], b = q[size_t((i + 1) % 4)];
       neighbours[size_t(a)].push_back(b);

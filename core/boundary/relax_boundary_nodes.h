@@ -10,6 +10,7 @@
 // to 0.80%: its quads cut a few edges a little deeper).
 #pragma once
 
+#include <dthex/mesh/node_constraints.h>
 #include <dthex/mesh/triangle_bvh.h>
 #include <dthex/mesh/types.h>
 #include <dthex/surface/features.h>
@@ -27,8 +28,9 @@ struct RelaxBoundaryOptions {
   //! A move is refused where the surface normal at the landing point turns by more than
   //! this from the normal where the node stands: a node does not cross a feature line.
   double max_normal_turn_deg = kDefaultFeatureAngleDeg;
-  //! Optional: boundary_quads(mesh) (conformity.h), if the caller has them; found here otherwise.
-  const std::vector<std::array<int, 4>>* boundary_quads = nullptr;
+  //! Optional: the mesh's node_constraints(), if the caller has them, for its boundary quads
+  //! (used as given, even empty); found here otherwise.
+  const NodeConstraints* constraints = nullptr;
 };
 
 struct RelaxBoundaryReport {

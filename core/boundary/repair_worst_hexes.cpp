@@ -50,10 +50,13 @@ RepairWorstHexesReport repair_worst_hexes(HexMesh& mesh, const TriangleBvh& surf
   }
 
   const auto start = std::chrono::steady_clock::now();
-  // The boundary nodes, once for every round's region solve and smoothing.
-  const std::vector<char> on_boundary = boundary_nodes(mesh, options.boundary_nodes);
+  // The boundary nodes, found once for every round's region solve and smoothing, and the
+  // feature nodes.
+  NodeConstraints constraints;
+  if (options.constraints) constraints.on_feature = options.constraints->on_feature;
+  constraints.on_boundary = boundary_nodes(mesh, options.constraints ? &options.constraints->on_boundary : nullptr);
   UntangleOptions region;
-  region.boundary_nodes = &on_boundary;
+  region.constraints = &constraints;
   region.target_scaled_jacobian = options.threshold;
   region.region_rings = options.region_rings;
   region.max_boundary_phases = options.sliding_passes;
@@ -87,7 +90,7 @@ RepairWorstHexesReport repair_worst_hexes(HexMesh& mesh, const TriangleBvh& surf
       case CreaseKind::none:
         return false;
       case CreaseKind::concave_line:  // projection may have put it there by mistake
-        return options.feature_nodes && v < options.feature_nodes->size() && (*options.feature_nodes)[v];
+        return constraints.is_feature(v);
       case CreaseKind::convex_line:
         if (knives && faces_cos < knife_cos) return false;
         break;
@@ -97,10 +100,9 @@ RepairWorstHexesReport repair_worst_hexes(HexMesh& mesh, const TriangleBvh& surf
     return true;
   };
   LocalSmoothOptions raise;
-  raise.boundary_nodes = &on_boundary;
+  raise.constraints = &constraints;
   raise.target_scaled_jacobian = options.target_scaled_jacobian;
   raise.shape_sweeps = options.shape_sweeps;
-  raise.feature_nodes = options.feature_nodes;
   raise.knife_edge_slide = options.knife_edge_slide;
   auto seconds_left = [&] {
     return std::max(0.0, options.time_limit_seconds -

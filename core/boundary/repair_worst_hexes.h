@@ -13,6 +13,7 @@
 #pragma once
 
 #include <dthex/boundary/local_smooth.h>
+#include <dthex/mesh/node_constraints.h>
 #include <dthex/mesh/triangle_bvh.h>
 #include <dthex/mesh/types.h>
 #include <dthex/surface/features.h>
@@ -47,17 +48,14 @@ struct RepairWorstHexesOptions {
   double target_scaled_jacobian = 0.3;
   //! Shape sweeps of that smoother run; they also raise the minimum a little.
   int shape_sweeps = 0;
-  //! As LocalSmoothOptions::feature_nodes: the nodes of the coarse feature lines, held on
-  //! concave creases too. A crease is where the surface turns by more than
-  //! `max_normal_turn_deg` (the smoother's feature angle).
-  const std::vector<char>* feature_nodes = nullptr;
+  //! As LocalSmoothOptions::constraints: the boundary nodes (found here without them), and
+  //! the nodes of the coarse feature lines, held on concave creases too. A crease is where
+  //! the surface turns by more than `max_normal_turn_deg` (the smoother's feature angle).
+  const NodeConstraints* constraints = nullptr;
   double max_normal_turn_deg = kDefaultFeatureAngleDeg;
   //! As LocalSmoothOptions::knife_edge_slide, for the region solve's slides too (the nodes
   //! of a knife edge's line are not held).
   double knife_edge_slide = LocalSmoothOptions().knife_edge_slide;
-  //! Optional: boundary_nodes(mesh) (conformity.h), if the caller has it; without it (or if
-  //! its size is not the mesh's node count) they are found here.
-  const std::vector<char>* boundary_nodes = nullptr;
   double time_limit_seconds = 120.0;
 };
 

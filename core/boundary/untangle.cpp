@@ -99,7 +99,7 @@ class Untangler {
                                    std::chrono::duration<double>(options.time_limit_seconds));
     const size_t n_nodes = mesh.nodes.size();
     // Boundary nodes: those of the faces used by one hex only, and those with a facet.
-    const std::vector<char> on_boundary = boundary_nodes(mesh, options.boundary_nodes);
+    const std::vector<char> on_boundary = boundary_nodes(mesh, options.constraints ? &options.constraints->on_boundary : nullptr);
     is_boundary_.assign(on_boundary.begin(), on_boundary.end());
     // Per-hex reference size (mean edge length) and per-node variable scale.
     hex_size_.resize(mesh.hexes.size());

@@ -7,6 +7,7 @@
 // into a barrier once everything is valid, so the shape pass that follows never re-inverts.
 #pragma once
 
+#include <dthex/mesh/node_constraints.h>
 #include <dthex/mesh/triangle_bvh.h>
 #include <dthex/mesh/types.h>
 
@@ -58,9 +59,9 @@ struct UntangleOptions {
   //! sixth off the spot's untangling) but leave more to the sliding repair, which cost
   //! the spot's final minimum scaled Jacobian (0.119 instead of 0.191).
   int fixed_boundary_rounds = 20;
-  //! Optional: boundary_nodes(mesh) (conformity.h), if the caller has it; without it (or if
-  //! its size is not the mesh's node count) they are found here.
-  const std::vector<char>* boundary_nodes = nullptr;
+  //! Optional: the mesh's node_constraints(), if the caller has them; its on_boundary is
+  //! used (found here without it, or if it is not of the mesh's node count).
+  const NodeConstraints* constraints = nullptr;
   //! The run stops (and reports what it reached) after this much wall time.
   double time_limit_seconds = 120.0;
   //! Length of worst_hexes in the report.

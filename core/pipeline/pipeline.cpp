@@ -11,9 +11,9 @@
 #include <dthex/hexes/node_count.h>
 #include <dthex/hexes/thex.h>
 #include <dthex/io/read_surface.h>
+#include <dthex/mesh/node_constraints.h>
 #include <dthex/mesh/triangle_bvh.h>
 #include <dthex/surface/coarsen.h>
-#include <dthex/surface/features.h>
 #include <dthex/surface/remesh_isotropic.h>
 #include <dthex/surface/surface_distance.h>
 #include <dthex/surface/verify_surface.h>
@@ -360,16 +360,13 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
   }
 
   if (!options.thex_only && options.project) {
-    // Before projection moves them: the nodes that lie on the coarse surface's feature lines.
-    const std::vector<char> feature_nodes = nodes_on_feature_edges(result.hexes, result.coarse);
-    // The topology is final: the boundary quads and nodes, found once for the projection, the
-    // untangler and the smoothers (each search sorts every hex face).
-    const std::vector<std::array<int, 4>> quads_after_dicing = boundary_quads(result.hexes);
-    const std::vector<char> on_boundary = boundary_nodes_of_quads(result.hexes, quads_after_dicing);
+    // The topology is final and projection has not moved a node yet: the boundary quads and
+    // nodes and the feature nodes, found once for the projection, the untangler and the
+    // smoothers (each search sorts every hex face).
+    const NodeConstraints constraints = node_constraints(result.hexes, result.coarse);
     timed_stage(result, progress, "project", [&] {
       ProjectOptions project_options;
-      project_options.held_nodes = &feature_nodes;  // the relaxation leaves them on their feature lines
-      project_options.boundary_quads = &quads_after_dicing;
+      project_options.constraints = &constraints;  // the relaxation leaves feature nodes on their lines
       const ProjectReport report =
           project_boundary(result.hexes, result.coarse, result.input, input_bvh, project_options);
       std::ostringstream out;
@@ -386,7 +383,7 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
       // still below a useful scaled Jacobian are raised by the local smoother next, which
       // is far cheaper than the untangler's regional repairs and gets further.
       untangle_options.target_scaled_jacobian = 0;
-      untangle_options.boundary_nodes = &on_boundary;
+      untangle_options.constraints = &constraints;
       const UntangleReport report = untangle_and_smooth(result.hexes, input_bvh, untangle_options);
       result.inverted_before_untangle = report.inverted_before;
       std::ostringstream out;
@@ -398,9 +395,8 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
     timed_stage(result, progress, "smooth worst", [&] {
       LocalSmoothOptions smooth_options;
       smooth_options.time_limit_seconds = options.time_limit_seconds;
-      smooth_options.feature_nodes = &feature_nodes;
+      smooth_options.constraints = &constraints;
       smooth_options.knife_edge_slide = options.knife_edge_slide;
-      smooth_options.boundary_nodes = &on_boundary;
       const LocalSmoothReport report = smooth_worst_hexes(result.hexes, input_bvh, smooth_options);
       smoothed_min = report.min_scaled_jacobian_after;
       std::ostringstream out;
@@ -409,9 +405,8 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
       return out.str();
     });
     RepairWorstHexesOptions repair_options;
-    repair_options.feature_nodes = &feature_nodes;
+    repair_options.constraints = &constraints;
     repair_options.knife_edge_slide = options.knife_edge_slide;
-    repair_options.boundary_nodes = &on_boundary;
     repair_options.time_limit_seconds = options.time_limit_seconds;
     // Hexes left below the threshold make this mesh poor. If thin walls are then the likely
     // cause, run_pipeline meshes again sized by thickness whatever the repair reaches, so the

@@ -103,9 +103,10 @@ TEST(RelaxBoundaryNodes, GivenQuadsAreUsedAsFound) {
   std::vector<Vec3> displacement(found.mesh.nodes.size(), Vec3::Zero());
   const RelaxBoundaryReport by_itself = relax_boundary_nodes(found.mesh, found.coarse, bvh, {}, displacement);
 
-  const std::vector<std::array<int, 4>> quads = boundary_quads(given.mesh);
+  NodeConstraints constraints;
+  constraints.boundary_quads = boundary_quads(given.mesh);
   RelaxBoundaryOptions options;
-  options.boundary_quads = &quads;
+  options.constraints = &constraints;
   std::fill(displacement.begin(), displacement.end(), Vec3::Zero());
   const RelaxBoundaryReport with_quads =
       relax_boundary_nodes(given.mesh, given.coarse, bvh, {}, displacement, options);
@@ -113,8 +114,8 @@ TEST(RelaxBoundaryNodes, GivenQuadsAreUsedAsFound) {
   EXPECT_EQ(with_quads.moves, by_itself.moves);
   EXPECT_EQ(given.mesh.nodes, found.mesh.nodes);
 
-  const std::vector<std::array<int, 4>> no_quads;
-  options.boundary_quads = &no_quads;
+  NodeConstraints no_quads;
+  options.constraints = &no_quads;
   const std::vector<Vec3> before = none.mesh.nodes;
   EXPECT_EQ(relax_boundary_nodes(none.mesh, none.coarse, bvh, {}, displacement, options).moves, 0u);
   EXPECT_EQ(none.mesh.nodes, before);
