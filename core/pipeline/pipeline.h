@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The whole DTHex pipeline as one call: read and verify, coarsen, tet-mesh, THex,
 // dice, project onto the input surface, untangle, measure. The om_dthex command and
-// the benchmark harness both run it; writing files is left to the caller.
+// the benchmark harness both run it; writing files is left to the caller, and turning
+// the stage reports into prose or JSON to core/report/report.h.
 #pragma once
 
 #include <dthex/boundary/local_smooth.h>
@@ -9,6 +10,7 @@
 #include <dthex/mesh/triangle_bvh.h>
 #include <dthex/mesh/types.h>
 #include <dthex/pipeline/progress.h>
+#include <dthex/pipeline/stage_reports.h>
 
 #include <memory>
 #include <string>
@@ -54,20 +56,6 @@ struct PipelineOptions {
   Remesh remesh = Remesh::automatic;
 };
 
-struct StageRecord {
-  std::string name;
-  double seconds = 0;
-  std::string detail;
-};
-
-struct SurfaceSummary {
-  size_t vertices = 0, triangles = 0, components = 0, cavities = 0;
-  int genus = 0;
-  double volume = 0, bbox_diagonal = 0;
-  size_t flipped_components = 0;
-  QualityStats shape;
-};
-
 struct PipelineResult {
   std::string input_path;
   double eps = 0;                     //!< the coarsening factor used (chosen by --target-nodes or given)
@@ -96,12 +84,21 @@ struct PipelineResult {
   //! hexes left, on walls thinner than their size (what the summary's hint counts).
   size_t thin_wall_vertices = 0;
   //! The thickness ratio the kept mesh was sized with, and what the automatic retry did
-  //! (PipelineOptions::thickness_retry): "" when it did not run, else a sentence for the summary.
+  //! (PipelineOptions::thickness_retry; `ran` false when it did not run).
   double thickness_ratio_used = 0;
-  std::string thickness_retry;
+  ThicknessRetryReport thickness_retry;
   std::vector<size_t> worst_hexes;          //!< ids of the worst hexes by scaled Jacobian
+  //! Every stage run, in order, with its time and typed report (stage_reports.h).
   std::vector<StageRecord> stages;
   double total_seconds = 0;
+
+  //! The report of the last stage named `name` if it is an R, else nullptr.
+  template <class R>
+  const R* stage_report(const std::string& name) const {
+    for (auto s = stages.rbegin(); s != stages.rend(); ++s)
+      if (s->name == name) return std::get_if<R>(&s->report);
+    return nullptr;
+  }
 };
 
 //! THex's tets keep TetGen's radius-edge bound 1.2, as the paper's baseline and

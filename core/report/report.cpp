@@ -3,8 +3,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <iomanip>
 #include <sstream>
+#include <variant>
 
 #ifndef DTHEX_VERSION
 #define DTHEX_VERSION "dev"
@@ -36,6 +40,195 @@ nlohmann::json surface_json(const SurfaceSummary& s) {
           {"triangle_shape", stats_json(s.shape)}};
 }
 
+// ---------------------------------------------------------------- stage reports as prose
+
+std::string count_text(const char* what, size_t n) {
+  std::ostringstream out;
+  out << n << ' ' << what;
+  return out.str();
+}
+
+std::string text(const ReadReport& r) { return count_text("triangles", r.triangles); }
+
+std::string text(const SurfaceSummary& s) {
+  std::ostringstream out;
+  out << count_text("vertices", s.vertices) << ", " << s.components << " component(s), genus " << s.genus;
+  if (s.flipped_components) out << ", orientation flipped";
+  return out.str();
+}
+
+std::string text(const RemeshStageReport& r) {
+  using Outcome = RemeshStageReport::Outcome;
+  std::ostringstream out;
+  out << std::round(r.needle_share_before * 100) << "% needles; ";
+  switch (r.outcome) {
+    case Outcome::gave_up:
+      out << "the remeshing at edge " << r.remesh.edge_length
+          << " only grew the mesh (feature lines that meet at a hair's angle), so the input is coarsened as it is";
+      break;
+    case Outcome::failed_verification:
+      out << "the remeshed surface failed verification (" << r.failure << "), so the input is coarsened as it is";
+      break;
+    case Outcome::no_better:
+      out << "the remeshed surface was no better (" << std::round(r.needle_share_after * 100)
+          << "% needles, smallest angle " << std::setprecision(3) << r.remesh.min_angle_before_deg << " -> "
+          << r.remesh.min_angle_after_deg << " degrees), so the input is coarsened as it is";
+      break;
+    case Outcome::kept:
+      out << r.remesh.triangles_before << " -> " << r.remesh.triangles_after << " triangles of edge "
+          << r.remesh.edge_length << ", smallest angle " << std::setprecision(3) << r.remesh.min_angle_before_deg
+          << " -> " << r.remesh.min_angle_after_deg << " degrees";
+      break;
+  }
+  return out.str();
+}
+
+std::string text(const ThinWallReport& r) {
+  return count_text("input vertices", r.vertices) + " on walls thinner than their size";
+}
+
+std::string text(const ChooseEpsReport& r) {
+  return "eps " + std::to_string(r.eps) + " for about " + std::to_string(r.target_nodes) + " nodes";
+}
+
+std::string text(const CoarsenStageReport& r) {
+  std::string out = count_text("triangles", r.triangles);
+  if (r.coarsen.thin_wall_vertices)
+    out += " (" + count_text("input vertices", r.coarsen.thin_wall_vertices) + " sized by wall thickness)";
+  if (r.coarsen.cut_vertices)
+    out += ", in two halves at once (cut through " + count_text("vertices", r.coarsen.cut_vertices) + ")";
+  if (r.flat_valence3_removed) out += ", " + count_text("flat three-triangle vertices removed", r.flat_valence3_removed);
+  if (r.needles.vertices_added)
+    out += ", " + std::to_string(r.needles.needles_before) + " needles on flat faces refined (" +
+           count_text("vertices added", r.needles.vertices_added) + ", " + std::to_string(r.needles.needles_after) +
+           " left)";
+  return out;
+}
+
+std::string text(const TetrahedralizeReport& r) { return count_text("tets", r.tets); }
+
+std::string text(const BoundaryEdgesReport& r) {
+  return count_text("clusters coned", r.clusters_coned) + ", then of " + std::to_string(r.removed.candidates) +
+         " interior edges between boundary vertices " + std::to_string(r.removed.removed) + " flipped away and " +
+         std::to_string(r.removed.split) + " split, " + count_text("tets", r.removed.tets_after);
+}
+
+std::string text(const FlipThreeTetEdgesReport& r) {
+  return count_text("three-tet edges flipped", r.flips) + ", " + count_text("tets", r.tets_after);
+}
+
+std::string text(const CollapseInteriorVerticesReport& r) {
+  return count_text("interior vertices merged into a neighbour", r.collapsed) + ", " +
+         count_text("tets", r.tets_after);
+}
+
+std::string text(const SplitSurfaceTetsReport& r) {
+  return count_text("tets split", r.split_tets) + ", " + count_text("interior edges split", r.split_edges) + ", " +
+         count_text("interior faces split", r.split_faces);
+}
+
+std::string text(const FlipWorstTetsReport& r) {
+  std::ostringstream out;
+  out << count_text("edges removed", r.edge_removals) << ", " << count_text("faces flipped 2-3", r.face_flips)
+      << ", worst tet shape " << r.worst_before << " -> " << r.worst_after;
+  return out.str();
+}
+
+std::string text(const RelaxInteriorPointsReport& r) {
+  std::ostringstream out;
+  out << count_text("interior points moved", r.moved) << ", worst tet shape " << r.worst_before << " -> "
+      << r.worst_after;
+  return out.str();
+}
+
+std::string text(const HexCountReport& r) { return count_text("hexes", r.hexes); }
+
+std::string text(const ProjectReport& r) {
+  std::ostringstream out;
+  out << r.projected_nodes << " boundary nodes projected (largest move " << r.max_displacement << ")";
+  if (r.far_nodes) out << ", " << r.far_nodes << " beyond their facet's reach";
+  if (r.unconstrained_nodes) out << ", " << r.unconstrained_nodes << " with no surface facing their way";
+  if (r.relaxed_moves) out << ", then relaxed on the surface (" << r.relaxed_moves << " moves)";
+  return out.str();
+}
+
+std::string text(const UntangleReport& r) {
+  std::ostringstream out;
+  out << r.inverted_before << " inverted before, " << r.inverted_after << " after";
+  if (r.undone) out << " (its result had more, so it was undone)";
+  return out.str();
+}
+
+std::string text(const LocalSmoothReport& r) {
+  std::ostringstream out;
+  out << "min scaled Jacobian " << r.min_scaled_jacobian_before << " -> " << r.min_scaled_jacobian_after
+      << ", avg shape " << r.avg_shape_before << " -> " << r.avg_shape_after;
+  return out.str();
+}
+
+std::string text(const RepairWorstStageReport& s) {
+  const RepairWorstHexesReport& r = s.repair;
+  std::ostringstream out;
+  out << count_text("hexes", r.below_before) << " below scaled Jacobian " << s.threshold;
+  if (r.too_many)
+    out << ", " << std::round(1000.0 * double(r.below_before) / double(std::max<size_t>(s.hexes, 1))) / 10
+        << "% of the mesh: too many for a local repair, not run";
+  else if (r.undone)
+    out << ": the region solve and smoothing ended worse (min " << r.min_after_region_solve << "), undone";
+  else
+    out << " -> " << r.below_after << ", min scaled Jacobian " << r.min_scaled_jacobian_before << " -> "
+        << r.min_scaled_jacobian_after;
+  if (r.time_limit_reached) out << " (time limit reached)";
+  return out.str();
+}
+
+std::string text(const RepairBoundaryFoldsReport& r) {
+  if (r.faces_inside_before == 0) return "no boundary faces inside the mesh";
+  std::ostringstream out;
+  out << r.faces_inside_before << " boundary faces inside -> " << r.faces_inside_after;
+  if (r.undone)
+    out << " (no move lowered the count: undone)";
+  else
+    out << ", " << count_text("nodes moved", r.moved_nodes) << ", min scaled Jacobian around them "
+        << r.region_min_scaled_jacobian_before << " -> " << r.region_min_scaled_jacobian_after;
+  if (r.time_limit_reached) out << " (time limit reached)";
+  return out.str();
+}
+
+std::string text(const MeasureReport& r) {
+  std::string out = count_text("inverted", r.inverted);
+  if (r.boundary_faces_inside > 0) out += ", " + count_text("boundary faces", r.boundary_faces_inside) + " inside the mesh";
+  return out;
+}
+
+std::string text(const MeshTryReport& r) {
+  if (r.failed) return "failed: " + r.failure;
+  std::ostringstream out;
+  out << "min scaled Jacobian " << std::setprecision(3) << r.min_scaled_jacobian;
+  if (r.inverted) out << ", " << count_text("inverted", r.inverted);
+  if (!r.conforming) out << ", not conforming";
+  return out.str();
+}
+
+}  // namespace
+
+std::string describe(const StageReport& report) {
+  return std::visit([](const auto& r) { return text(r); }, report);
+}
+
+std::string describe(const ThicknessRetryReport& r) {
+  if (!r.ran) return "";
+  const char* counted = r.remeshed_input ? " vertices of the remeshed input" : " input vertices";
+  std::ostringstream out;
+  out << r.thin_wall_vertices << " of " << r.coarsening_vertices << counted
+      << " lie on walls thinner than their curvature size, so the input was meshed twice:\n"
+      << "  sized by curvature (" << text(r.curvature) << ") and by wall thickness, --thickness-ratio 1 ("
+      << text(r.thickness) << ");\n  kept the " << (r.kept_thickness ? "thickness" : "curvature") << "-sized mesh";
+  return out.str();
+}
+
+namespace {
+
 }  // namespace
 
 std::string summary_table(const PipelineResult& r, const PipelineOptions& o) {
@@ -52,7 +245,7 @@ std::string summary_table(const PipelineResult& r, const PipelineOptions& o) {
     // the line break with it.
     char line[96];
     std::snprintf(line, sizeof line, "  %-20s %9.3f  ", s.name.c_str(), s.seconds);
-    out << line << s.detail << "\n";
+    out << line << describe(s.report) << "\n";
   }
   char total[96];
   std::snprintf(total, sizeof total, "  %-20s %9.3f\n", "total", r.total_seconds);
@@ -91,8 +284,8 @@ std::string summary_table(const PipelineResult& r, const PipelineOptions& o) {
   }
   // Thin walls sized by curvature alone are the commonest cause of poor hexes left over.
   const bool poor = r.quality.inverted > 0 || r.quality.below_0_2 > 0;
-  if (!r.thickness_retry.empty())
-    out << "  thin walls: " << r.thickness_retry << "\n";
+  if (r.thickness_retry.ran)
+    out << "  thin walls: " << describe(r.thickness_retry) << "\n";
   else if (poor && !o.thex_only && o.thickness_ratio <= 0 &&
            r.thin_wall_vertices * 20 >= r.coarsening_input().points.size())
     out << "  hint: " << r.thin_wall_vertices << " of " << r.coarsening_input().points.size()
@@ -130,7 +323,7 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
     j["coarse"] = surface_json(r.coarse_summary);
     j["coarse"]["thin_wall_input_vertices"] = r.thin_wall_vertices;
     j["coarse"]["thickness_ratio_used"] = r.thickness_ratio_used;
-    j["coarse"]["thickness_retry"] = r.thickness_retry;
+    j["coarse"]["thickness_retry"] = describe(r.thickness_retry);
   }
   j["tets"] = {{"count", r.tets}, {"shape", stats_json(r.tet_shape)}};
   j["hex"] = {{"nodes", r.hexes.nodes.size()},
@@ -151,7 +344,8 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
                    {"hausdorff_relative", r.input_summary.bbox_diagonal > 0 ? r.hausdorff / r.input_summary.bbox_diagonal : 0.0},
                    {"mean", r.mean_distance}};
   nlohmann::json stages = nlohmann::json::array();
-  for (const auto& s : r.stages) stages.push_back({{"name", s.name}, {"seconds", s.seconds}, {"result", s.detail}});
+  for (const auto& s : r.stages)
+    stages.push_back({{"name", s.name}, {"seconds", s.seconds}, {"result", describe(s.report)}});
   j["stages"] = stages;
   j["total_seconds"] = r.total_seconds;
   if (thex_baseline) {

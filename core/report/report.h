@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // What a run produced, for people and programs: the summary table printed at the
-// end and the JSON report (--report FILE.json).
+// end, the JSON report (--report FILE.json), and the one sentence each stage report is
+// rendered as (here only: the progress line, the summary and the HTML report use them).
 #pragma once
 
 #include <dthex/pipeline/pipeline.h>
@@ -8,6 +9,13 @@
 #include <string>
 
 namespace dthex {
+
+//! One line for people on what a stage did, from its typed report (stage_reports.h).
+std::string describe(const StageReport& report);
+
+//! What the thickness retry did, over three lines (the second and third indented by two
+//! spaces); "" when it did not run.
+std::string describe(const ThicknessRetryReport& report);
 
 //! The paper-style summary: per stage time and counts, then quality of the input
 //! triangles, the coarse triangles, the tets and the hexes, and the distance to the input.

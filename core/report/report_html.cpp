@@ -3,6 +3,7 @@
 
 #include <dthex/hexes/conformity.h>
 #include <dthex/report/cluster_surface.h>
+#include <dthex/report/report.h>
 
 #include <nlohmann/json.hpp>
 
@@ -326,7 +327,7 @@ std::string stage_table(const PipelineResult& r) {
   out << "<table class=\"stages\"><thead><tr><th>stage</th><th>seconds</th><th>result</th></tr></thead><tbody>\n";
   for (const auto& s : r.stages)
     out << "<tr><td>" << escape_html(s.name) << "</td><td class=\"num\">" << number(s.seconds, 3) << "</td><td>"
-        << escape_html(s.detail) << "</td></tr>\n";
+        << escape_html(describe(s.report)) << "</td></tr>\n";
   out << "<tr class=\"total\"><td>total</td><td class=\"num\">" << number(r.total_seconds, 3)
       << "</td><td></td></tr>\n</tbody></table>\n";
   return out.str();

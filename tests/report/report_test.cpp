@@ -11,10 +11,16 @@ using namespace dthex;
 TEST(SummaryTable, LongStageResultIsPrintedWholeOnItsOwnLine) {
   PipelineResult result;
   result.input_path = "in.off";
-  std::string detail = "3602 triangles";
-  while (detail.size() < 300) detail += ", and a further remark on what this stage did";
-  result.stages.push_back({"coarsen", 0.5, detail});
-  result.stages.push_back({"verify coarse", 0.25, "1898 vertices"});
+  RemeshStageReport remesh;
+  remesh.outcome = RemeshStageReport::Outcome::failed_verification;
+  while (remesh.failure.size() < 300) remesh.failure += "a further remark on what this stage did, ";
+  SurfaceSummary coarse;
+  coarse.vertices = 1898;
+  result.stages.push_back({"remesh input", 0.5, remesh});
+  result.stages.push_back({"verify coarse", 0.25, coarse});
+  const std::string detail = describe(result.stages.front().report);
+  EXPECT_GT(detail.size(), 300u);
   const std::string table = summary_table(result, PipelineOptions{});
   EXPECT_NE(table.find(detail + "\n  verify coarse"), std::string::npos) << table;
+  EXPECT_NE(table.find("1898 vertices"), std::string::npos) << table;
 }

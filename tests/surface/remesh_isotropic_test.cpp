@@ -6,6 +6,7 @@
 #include <dthex/mesh/quality.h>
 #include <dthex/mesh/triangle_bvh.h>
 #include <dthex/pipeline/pipeline.h>
+#include <dthex/report/report.h>
 #include <dthex/surface/coarsen.h>
 #include <dthex/surface/features.h>
 #include <dthex/surface/surface_distance.h>
@@ -178,6 +179,10 @@ TEST(RemeshIsotropic, PipelineKeepsASpikeThatRemeshingWouldMakeWorse) {
   ASSERT_NE(stage, r.stages.end());
   // Where the feature lines converge, collapses across them are refused while splits go on:
   // the remeshing gives up once the mesh has grown 16-fold past what its length asks for.
-  EXPECT_NE(stage->detail.find("the input is coarsened as it is"), std::string::npos);
+  const RemeshStageReport* report = std::get_if<RemeshStageReport>(&stage->report);
+  ASSERT_NE(report, nullptr);
+  EXPECT_TRUE(report->remesh.gave_up);
+  EXPECT_EQ(report->outcome, RemeshStageReport::Outcome::gave_up);
+  EXPECT_NE(describe(stage->report).find("the input is coarsened as it is"), std::string::npos);
   EXPECT_EQ(r.coarse.triangles.size(), 4u);
 }

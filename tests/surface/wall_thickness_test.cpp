@@ -148,7 +148,12 @@ TEST(WallThickness, DefaultMeshesAThinPlateTwiceAndKeepsTheThicknessSizedMesh) {
   EXPECT_EQ(kept.thickness_ratio_used, 1.0);
   EXPECT_EQ(kept.hexes.nodes.size(), sized.hexes.nodes.size());
   EXPECT_EQ(kept.quality.scaled_jacobian_stats.min, sized.quality.scaled_jacobian_stats.min);
-  EXPECT_NE(kept.thickness_retry.find("kept the thickness-sized mesh"), std::string::npos) << kept.thickness_retry;
+  EXPECT_TRUE(kept.thickness_retry.ran);
+  EXPECT_TRUE(kept.thickness_retry.kept_thickness);
+  EXPECT_EQ(kept.thickness_retry.thin_wall_vertices, kept.thin_wall_vertices);
+  EXPECT_EQ(kept.thickness_retry.thickness.min_scaled_jacobian, kept.quality.scaled_jacobian_stats.min);
+  EXPECT_NE(describe(kept.thickness_retry).find("kept the thickness-sized mesh"), std::string::npos)
+      << describe(kept.thickness_retry);
   const std::string summary = summary_table(kept, automatic);
   EXPECT_NE(summary.find("meshed twice"), std::string::npos) << summary;
   EXPECT_EQ(summary.find("hint:"), std::string::npos) << summary;
@@ -163,6 +168,6 @@ TEST(WallThickness, DefaultMeshesAThinPlateTwiceAndKeepsTheThicknessSizedMesh) {
   EXPECT_LE(stages, kept.total_seconds + 1e-6);
 
   const PipelineResult thick = run_pipeline(box, automatic, quiet);
-  EXPECT_TRUE(thick.thickness_retry.empty()) << thick.thickness_retry;
+  EXPECT_FALSE(thick.thickness_retry.ran) << describe(thick.thickness_retry);
   EXPECT_EQ(thick.thickness_ratio_used, 0.0);
 }

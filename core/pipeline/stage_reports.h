@@ -1,0 +1,146 @@
+// SPDX-License-Identifier: MIT
+// The typed report of each pipeline stage, as PipelineResult keeps them (one StageRecord
+// per stage run, in order). Stages whose algorithm has a report of its own keep it; the
+// others (reading, counting, the pipeline's own decisions) have a small struct here. They
+// are turned into prose and JSON in one place, core/report/report.cpp.
+#pragma once
+
+#include <dthex/boundary/local_smooth.h>
+#include <dthex/boundary/project_boundary.h>
+#include <dthex/boundary/repair_boundary_folds.h>
+#include <dthex/boundary/repair_worst_hexes.h>
+#include <dthex/boundary/untangle.h>
+#include <dthex/mesh/quality.h>
+#include <dthex/surface/coarsen.h>
+#include <dthex/surface/remesh_isotropic.h>
+#include <dthex/tet_edits/collapse_interior_vertices.h>
+#include <dthex/tet_edits/flip_three_tet_edges.h>
+#include <dthex/tet_edits/flip_worst_tets.h>
+#include <dthex/tet_edits/remove_boundary_edges.h>
+#include <dthex/tets/refine_flat_needles.h>
+#include <dthex/tets/relax_interior_points.h>
+#include <dthex/tets/split_surface_tets.h>
+
+#include <string>
+#include <variant>
+
+namespace dthex {
+
+//! A verified surface (the input, or the coarse surface): stage "verify" and "verify coarse".
+struct SurfaceSummary {
+  size_t vertices = 0, triangles = 0, components = 0, cavities = 0;
+  int genus = 0;
+  double volume = 0, bbox_diagonal = 0;
+  size_t flipped_components = 0;
+  QualityStats shape;
+};
+
+//! Stage "read": the surface as read.
+struct ReadReport {
+  size_t vertices = 0, triangles = 0;
+};
+
+//! Stage "remesh input" (PipelineOptions::remesh): the remeshing's own report, and whether
+//! its surface was kept or why it was dropped (the input is then coarsened as it is).
+struct RemeshStageReport {
+  enum class Outcome {
+    kept,                 //!< the coarsening starts from the remeshed surface
+    gave_up,              //!< the remeshing only grew the mesh (RemeshIsotropicReport::gave_up)
+    failed_verification,  //!< the remeshed surface failed verify_surface (see `failure`)
+    no_better,            //!< no fewer needles, or a smaller smallest angle
+  };
+  Outcome outcome = Outcome::kept;
+  double needle_share_before = 0;  //!< of the input's triangles, in [0, 1]
+  double needle_share_after = 0;   //!< of the remeshed triangles (0 when not measured)
+  RemeshIsotropicReport remesh;
+  std::string failure;             //!< verify_surface's message, for failed_verification
+};
+
+//! Stage "thin walls": the vertices of the coarsened surface on walls thinner than their size.
+struct ThinWallReport {
+  size_t vertices = 0;
+};
+
+//! Stage "choose eps" (PipelineOptions::target_nodes).
+struct ChooseEpsReport {
+  double eps = 0;
+  size_t target_nodes = 0;
+};
+
+//! Stage "coarsen": the coarsening's report (its surface and sizes are not kept here: the
+//! surface is PipelineResult::coarse), then the fixes made before TetGen.
+struct CoarsenStageReport {
+  CoarsenResult coarsen;               //!< surface and sizes emptied
+  size_t triangles = 0;                //!< of the coarsened surface, before the fixes
+  size_t flat_valence3_removed = 0;    //!< remove_flat_valence3_vertices (with projection)
+  RefineFlatNeedlesReport needles;
+};
+
+//! Stage "tetrahedralize".
+struct TetrahedralizeReport {
+  size_t tets = 0;
+};
+
+//! Stage "flip boundary edges": cone_edge_clusters, then remove_boundary_edges.
+struct BoundaryEdgesReport {
+  size_t clusters_coned = 0;
+  RemoveBoundaryEdgesReport removed;  //!< tets_after is the count after both
+};
+
+//! Stages "thex" and "dice": the hexes made.
+struct HexCountReport {
+  size_t hexes = 0;
+};
+
+//! Stage "repair worst": the repair's report with the threshold it used and the mesh's hex
+//! count (for the share below it).
+struct RepairWorstStageReport {
+  RepairWorstHexesReport repair;
+  double threshold = 0;
+  size_t hexes = 0;
+};
+
+//! Stage "measure": what makes the mesh good or poor.
+struct MeasureReport {
+  size_t inverted = 0;
+  size_t below_0_2 = 0;              //!< hexes with scaled Jacobian below 0.2
+  double min_scaled_jacobian = 0;
+  bool conforming = false;
+  size_t boundary_faces_inside = 0;
+};
+
+//! One whole meshing of the input (PipelineOptions::thickness_retry): stage "curvature-sized
+//! try" or "thickness-sized try", the mesh not kept.
+struct MeshTryReport {
+  double thickness_ratio = 0;  //!< 0 = sized by curvature alone
+  bool failed = false;         //!< it threw (then `failure` says why; the rest is unset)
+  std::string failure;
+  size_t inverted = 0;
+  double min_scaled_jacobian = 0;
+  bool conforming = false;
+};
+
+using StageReport =
+    std::variant<ReadReport, SurfaceSummary, RemeshStageReport, ThinWallReport, ChooseEpsReport, CoarsenStageReport,
+                 TetrahedralizeReport, BoundaryEdgesReport, FlipThreeTetEdgesReport, CollapseInteriorVerticesReport,
+                 SplitSurfaceTetsReport, FlipWorstTetsReport, RelaxInteriorPointsReport, HexCountReport, ProjectReport,
+                 UntangleReport, LocalSmoothReport, RepairWorstStageReport, RepairBoundaryFoldsReport, MeasureReport,
+                 MeshTryReport>;
+
+struct StageRecord {
+  std::string name;
+  double seconds = 0;
+  StageReport report;
+};
+
+//! What the automatic thickness retry did (PipelineOptions::thickness_retry), when it ran.
+struct ThicknessRetryReport {
+  bool ran = false;
+  size_t thin_wall_vertices = 0;    //!< of the surface the coarsening started from
+  size_t coarsening_vertices = 0;   //!< that surface's vertex count
+  bool remeshed_input = false;      //!< that surface was the remeshed input
+  MeshTryReport curvature, thickness;  //!< the two meshes
+  bool kept_thickness = false;      //!< the thickness-sized mesh was kept
+};
+
+}  // namespace dthex
