@@ -210,6 +210,181 @@ std::string text(const MeshTryReport& r) {
   return out.str();
 }
 
+// ---------------------------------------------------------------- stage reports as JSON
+
+using nlohmann::json;
+
+json fields(const ReadReport& r) { return {{"vertices", r.vertices}, {"triangles", r.triangles}}; }
+
+json fields(const SurfaceSummary& s) { return surface_json(s); }
+
+json fields(const RemeshIsotropicReport& r) {
+  return {{"triangles_before", r.triangles_before},       {"triangles_after", r.triangles_after},
+          {"edge_length", r.edge_length},                 {"min_angle_before_deg", r.min_angle_before_deg},
+          {"min_angle_after_deg", r.min_angle_after_deg}, {"gave_up", r.gave_up}};
+}
+
+json fields(const RemeshStageReport& r) {
+  using Outcome = RemeshStageReport::Outcome;
+  json j = fields(r.remesh);
+  j["outcome"] = r.outcome == Outcome::kept                  ? "kept"
+                 : r.outcome == Outcome::gave_up             ? "gave_up"
+                 : r.outcome == Outcome::failed_verification ? "failed_verification"
+                                                             : "no_better";
+  j["needle_share_before"] = r.needle_share_before;
+  j["needle_share_after"] = r.needle_share_after;
+  if (!r.failure.empty()) j["failure"] = r.failure;
+  return j;
+}
+
+json fields(const ThinWallReport& r) { return {{"thin_wall_vertices", r.vertices}}; }
+
+json fields(const ChooseEpsReport& r) { return {{"eps", r.eps}, {"target_nodes", r.target_nodes}}; }
+
+json fields(const CoarsenStageReport& s) {
+  const CoarsenResult& c = s.coarsen;
+  return {{"triangles", s.triangles},
+          {"input_vertices", c.input_vertices},
+          {"collapses", c.collapses},
+          {"swaps", c.swaps},
+          {"smoothing_moves", c.smoothing_moves},
+          {"global_smoothing_iterations", c.global_smoothing_iterations},
+          {"feature_edges", c.feature_edges},
+          {"feature_corners", c.feature_corners},
+          {"repair_rounds", c.repair_rounds},
+          {"cut_vertices", c.cut_vertices},
+          {"thin_wall_vertices", c.thin_wall_vertices},
+          {"h_min", c.h_min},
+          {"h_max", c.h_max},
+          {"flat_valence3_removed", s.flat_valence3_removed},
+          {"flat_needles_before", s.needles.needles_before},
+          {"flat_needles_after", s.needles.needles_after},
+          {"flat_needle_vertices_added", s.needles.vertices_added},
+          {"flat_needle_flips", s.needles.flips}};
+}
+
+json fields(const TetrahedralizeReport& r) { return {{"tets", r.tets}}; }
+
+json fields(const BoundaryEdgesReport& r) {
+  return {{"clusters_coned", r.clusters_coned}, {"candidates", r.removed.candidates}, {"removed", r.removed.removed},
+          {"split", r.removed.split},           {"tets_before", r.removed.tets_before}, {"tets_after", r.removed.tets_after}};
+}
+
+json fields(const FlipThreeTetEdgesReport& r) {
+  return {{"flips", r.flips}, {"tets_before", r.tets_before}, {"tets_after", r.tets_after}};
+}
+
+json fields(const CollapseInteriorVerticesReport& r) {
+  return {{"collapsed", r.collapsed}, {"tets_before", r.tets_before}, {"tets_after", r.tets_after}};
+}
+
+json fields(const SplitSurfaceTetsReport& r) {
+  return {{"split_tets", r.split_tets},
+          {"split_edges", r.split_edges},
+          {"split_faces", r.split_faces},
+          {"coned_clusters", r.coned_clusters}};
+}
+
+json fields(const FlipWorstTetsReport& r) {
+  return {{"edge_removals", r.edge_removals},
+          {"face_flips", r.face_flips},
+          {"worst_before", r.worst_before},
+          {"worst_after", r.worst_after}};
+}
+
+json fields(const RelaxInteriorPointsReport& r) {
+  return {{"moved", r.moved}, {"worst_before", r.worst_before}, {"worst_after", r.worst_after}};
+}
+
+json fields(const HexCountReport& r) { return {{"hexes", r.hexes}}; }
+
+json fields(const ProjectReport& r) {
+  return {{"projected_nodes", r.projected_nodes},
+          {"far_nodes", r.far_nodes},
+          {"unconstrained_nodes", r.unconstrained_nodes},
+          {"max_displacement", r.max_displacement},
+          {"relaxed_moves", r.relaxed_moves}};
+}
+
+json fields(const UntangleReport& r) {
+  return {{"inverted_before", r.inverted_before},
+          {"inverted_after", r.inverted_after},
+          {"min_scaled_jacobian", r.min_scaled_jacobian},
+          {"avg_shape", r.avg_shape},
+          {"min_shape", r.min_shape},
+          {"worst_hexes", r.worst_hexes},
+          {"sliding_boundary_nodes", r.sliding_boundary_nodes},
+          {"rounds", r.rounds},
+          {"seconds", r.seconds},
+          {"time_limit_reached", r.time_limit_reached},
+          {"undone", r.undone}};
+}
+
+json fields(const LocalSmoothReport& r) {
+  return {{"min_scaled_jacobian_before", r.min_scaled_jacobian_before},
+          {"min_scaled_jacobian_after", r.min_scaled_jacobian_after},
+          {"avg_shape_before", r.avg_shape_before},
+          {"avg_shape_after", r.avg_shape_after},
+          {"moves", r.moves},
+          {"sweeps", r.sweeps},
+          {"time_limit_reached", r.time_limit_reached}};
+}
+
+json fields(const RepairWorstStageReport& s) {
+  const RepairWorstHexesReport& r = s.repair;
+  return {{"threshold", s.threshold},
+          {"hexes", s.hexes},
+          {"below_before", r.below_before},
+          {"below_after", r.below_after},
+          {"min_scaled_jacobian_before", r.min_scaled_jacobian_before},
+          {"min_scaled_jacobian_after", r.min_scaled_jacobian_after},
+          {"min_after_region_solve", r.min_after_region_solve},
+          {"rounds", r.rounds},
+          {"undone", r.undone},
+          {"too_many", r.too_many},
+          {"time_limit_reached", r.time_limit_reached}};
+}
+
+json fields(const RepairBoundaryFoldsReport& r) {
+  return {{"faces_inside_before", r.faces_inside_before},
+          {"faces_inside_after", r.faces_inside_after},
+          {"regions", r.regions},
+          {"moved_nodes", r.moved_nodes},
+          {"region_min_scaled_jacobian_before", r.region_min_scaled_jacobian_before},
+          {"region_min_scaled_jacobian_after", r.region_min_scaled_jacobian_after},
+          {"undone", r.undone},
+          {"time_limit_reached", r.time_limit_reached}};
+}
+
+json fields(const MeasureReport& r) {
+  return {{"inverted", r.inverted},
+          {"scaled_jacobian_below_0_2", r.below_0_2},
+          {"min_scaled_jacobian", r.min_scaled_jacobian},
+          {"conforming", r.conforming},
+          {"boundary_faces_inside", r.boundary_faces_inside}};
+}
+
+json fields(const MeshTryReport& r) {
+  json j = {{"thickness_ratio", r.thickness_ratio}, {"failed", r.failed}};
+  if (r.failed) {
+    j["failure"] = r.failure;
+  } else {
+    j["inverted"] = r.inverted;
+    j["min_scaled_jacobian"] = r.min_scaled_jacobian;
+    j["conforming"] = r.conforming;
+  }
+  return j;
+}
+
+json fields(const ThicknessRetryReport& r) {
+  return {{"thin_wall_vertices", r.thin_wall_vertices},
+          {"coarsening_vertices", r.coarsening_vertices},
+          {"remeshed_input", r.remeshed_input},
+          {"curvature_sized", fields(r.curvature)},
+          {"thickness_sized", fields(r.thickness)},
+          {"kept", r.kept_thickness ? "thickness" : "curvature"}};
+}
+
 }  // namespace
 
 std::string describe(const StageReport& report) {
@@ -323,7 +498,8 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
     j["coarse"] = surface_json(r.coarse_summary);
     j["coarse"]["thin_wall_input_vertices"] = r.thin_wall_vertices;
     j["coarse"]["thickness_ratio_used"] = r.thickness_ratio_used;
-    j["coarse"]["thickness_retry"] = describe(r.thickness_retry);
+    // What the automatic retry did (null when it did not run).
+    j["coarse"]["thickness_retry"] = r.thickness_retry.ran ? fields(r.thickness_retry) : nlohmann::json();
   }
   j["tets"] = {{"count", r.tets}, {"shape", stats_json(r.tet_shape)}};
   j["hex"] = {{"nodes", r.hexes.nodes.size()},
@@ -345,7 +521,10 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
                    {"mean", r.mean_distance}};
   nlohmann::json stages = nlohmann::json::array();
   for (const auto& s : r.stages)
-    stages.push_back({{"name", s.name}, {"seconds", s.seconds}, {"result", describe(s.report)}});
+    stages.push_back({{"name", s.name},
+                      {"seconds", s.seconds},
+                      {"report", std::visit([](const auto& report) { return fields(report); }, s.report)},
+                      {"summary", describe(s.report)}});
   j["stages"] = stages;
   j["total_seconds"] = r.total_seconds;
   if (thex_baseline) {

@@ -22,6 +22,8 @@ std::string describe(const ThicknessRetryReport& report);
 std::string summary_table(const PipelineResult& result, const PipelineOptions& options);
 
 //! The JSON report: input, coarse, tet and hex statistics, histograms, timings, options, version.
+//! Each entry of "stages" holds "name", "seconds", "report" (the stage report's fields as
+//! numbers, booleans, and strings only for enums and error messages) and "summary" (describe()).
 //! With thex_baseline (--compare-thex), that run's report is nested under "thex_baseline".
 std::string report_json(const PipelineResult& result, const PipelineOptions& options,
                         const PipelineResult* thex_baseline = nullptr);
