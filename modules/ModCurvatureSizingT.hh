@@ -6,7 +6,7 @@
 // osculating radius over P's edges, then limited so |h(A) - h(B)| <= beta |AB| along edges.
 #pragma once
 
-#include "DThexGeometry.hh"
+#include "DTHexGeometry.hh"
 
 #include <OpenMesh/Core/Utils/Property.hh>
 

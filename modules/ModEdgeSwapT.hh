@@ -2,7 +2,7 @@
 // Post-collapse edge swaps around the kept vertex (DESIGN.md step 5), as a Decimater module.
 #pragma once
 
-#include "DThexTouched.hh"
+#include "DTHexTouched.hh"
 
 #include <OpenMesh/Tools/Decimater/ModBaseT.hh>
 

@@ -3,7 +3,7 @@
 // step 5), pulled back onto the input surface through a callback the app provides.
 #pragma once
 
-#include "DThexTouched.hh"
+#include "DTHexTouched.hh"
 
 #include <OpenMesh/Tools/Decimater/ModBaseT.hh>
 

@@ -3,7 +3,7 @@
 // B (= ci.v0, removed) into A (= ci.v1, kept) only while the edge is shorter than its size.
 #pragma once
 
-#include "DThexGeometry.hh"
+#include "DTHexGeometry.hh"
 
 #include <OpenMesh/Tools/Decimater/ModBaseT.hh>
 

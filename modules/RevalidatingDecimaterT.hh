@@ -3,7 +3,7 @@
 // vertices (OpenMesh's DecimaterT only re-checks topology when it pops a stored collapse).
 #pragma once
 
-#include "DThexTouched.hh"
+#include "DTHexTouched.hh"
 
 #include <OpenMesh/Tools/Decimater/BaseDecimaterT.hh>
 

@@ -208,7 +208,7 @@ double choose_eps_for_nodes(const TriSurface& input, const PipelineOptions& opti
 
 std::string tetgen_switches_for(const PipelineOptions& options) {
   if (!options.tetgen_switches.empty()) return options.tetgen_switches;
-  return options.thex_only ? kThexTetgenSwitches : kDthexTetgenSwitches;
+  return options.thex_only ? kThexTetgenSwitches : kDTHexTetgenSwitches;
 }
 
 PipelineResult read_and_verify(const std::string& input_path, Progress& progress,

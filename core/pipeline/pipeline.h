@@ -106,7 +106,7 @@ struct PipelineResult {
 //! smoothed afterwards, and 1.5 lets TetGen put fewer points inside: on the bundled and
 //! shared meshes 4-28% fewer hex nodes, with every hex still above scaled Jacobian 0.2.
 constexpr const char* kThexTetgenSwitches = "pq1.2Y";
-constexpr const char* kDthexTetgenSwitches = "pq1.5Y";
+constexpr const char* kDTHexTetgenSwitches = "pq1.5Y";
 //! The switches a run uses: the given ones, else the method's default above.
 std::string tetgen_switches_for(const PipelineOptions& options);
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/surface/split_in_halves.h>
 
-#include <dthex/modules/DThexGeometry.hh>
+#include <dthex/modules/DTHexGeometry.hh>
 
 #include <algorithm>
 #include <exception>

@@ -2,7 +2,7 @@
 #include <dthex/mesh/quality.h>
 #include <dthex/mesh/surface_mesh.h>
 
-#include <dthex/modules/DThexGeometry.hh>
+#include <dthex/modules/DTHexGeometry.hh>
 
 #include <gtest/gtest.h>
 

@@ -208,7 +208,7 @@ TEST(Cli, DefaultsAreTheLibrarysToTheLastBit) {
   EXPECT_EQ(options["thickness_ratio"].get<double>(), defaults.thickness_ratio);
   EXPECT_EQ(options["thickness_retry"].get<bool>(), defaults.thickness_retry);
   EXPECT_EQ(options["time_limit_seconds"].get<double>(), defaults.time_limit_seconds);
-  EXPECT_EQ(options["tetgen"].get<std::string>(), dthex::kDthexTetgenSwitches);
+  EXPECT_EQ(options["tetgen"].get<std::string>(), dthex::kDTHexTetgenSwitches);
   EXPECT_EQ(options["remesh"].get<std::string>(), "auto");
 }
 

@@ -76,7 +76,7 @@ TEST(PipelineQuality, PapersSphereDicedByThreeIsSmallAndWellShaped) {
 
 TEST(PipelineQuality, HeartMeetsDoneWhen) { expect_done_when("heart.off", 0.1, 2); }
 
-TEST(PipelineQuality, DthexTetsTakeTheLooserBoundAndFewerNodes) {
+TEST(PipelineQuality, DTHexTetsTakeTheLooserBoundAndFewerNodes) {
   // THex keeps the paper's TetGen bound (radius-edge 1.2); DTHex's coarse tets take 1.5 unless
   // switches are given. On the liver that is 14,575 nodes against 16,723, every hex still
   // above 0.2: the interior points a tight bound adds each become 8 hexes after dicing.

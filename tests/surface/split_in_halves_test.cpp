@@ -8,7 +8,7 @@
 #include <dthex/surface/features.h>
 #include <dthex/surface/verify_surface.h>
 
-#include <dthex/modules/DThexGeometry.hh>
+#include <dthex/modules/DTHexGeometry.hh>
 
 #include <gtest/gtest.h>
 

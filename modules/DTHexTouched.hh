@@ -3,7 +3,7 @@
 // whose edges they flipped), so a decimater can re-evaluate their neighbourhood.
 #pragma once
 
-#include "DThexGeometry.hh"
+#include "DTHexGeometry.hh"
 
 #include <OpenMesh/Core/Utils/Property.hh>
 
