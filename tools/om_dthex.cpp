@@ -4,6 +4,7 @@
 // (missing or unwritable folder, a directory, disk full, file-size limit); 3 meshing
 // failed; 1 internal error; 128 + N when stopped by signal N (130 for Ctrl-C).
 #include <dthex/io/atomic_file.h>
+#include <dthex/hexes/mesh_sets.h>
 #include <dthex/io/write_hex_mesh.h>
 #include <dthex/io/write_surface.h>
 #include <dthex/pipeline/pipeline.h>
@@ -23,6 +24,23 @@
 namespace fs = std::filesystem;
 
 namespace {
+
+//! The named sets the output file carries (in formats that have sets), one line each kind.
+std::string sets_summary(const dthex::MeshSets& sets) {
+  std::string parts, patches;
+  for (const auto& p : sets.parts) parts += " " + p.name + " (" + std::to_string(p.hexes.size()) + " hexes)";
+  size_t patch_count = 0;
+  for (const auto& s : sets.surfaces)
+    if (s.name.rfind("patch", 0) == 0 && ++patch_count <= 6) {
+      char area[64];
+      std::snprintf(area, sizeof area, "%.4g", s.area);
+      patches += " " + s.name + " (" + std::to_string(s.faces.size()) + " faces, area " + area + ")";
+    }
+  if (patch_count > 6) patches += " ...";
+  return "  parts: " + std::to_string(sets.parts.size()) + parts + "\n  boundary patches at creases: " +
+         std::to_string(patch_count) + patches + "\n";
+}
+
 
 constexpr int kExitOk = 0, kExitInternal = 1, kExitInput = 2, kExitMeshing = 3;
 
@@ -120,7 +138,8 @@ int run(CommandLine& cl) {
   progress.begin("write");
   dthex::HexFields fields{result.quality.shape, result.quality.scaled_jacobian};
   dthex::AtomicWriteGroup outputs;  // all outputs appear together, or none does
-  dthex::write_hex_mesh(result.hexes, cl.output, fields);
+  const dthex::MeshSets sets = dthex::find_mesh_sets(result.hexes, result.input);
+  dthex::write_hex_mesh(result.hexes, cl.output, fields, &sets);
   if (!cl.coarse_surface.empty()) dthex::write_surface(result.coarse, cl.coarse_surface);
   if (!cl.report.empty()) {
     const bool html = lower_extension(cl.report) == ".html";
@@ -133,6 +152,7 @@ int run(CommandLine& cl) {
   if (!cl.quiet) {
     std::fputs(dthex::summary_table(result, cl.pipeline).c_str(), stdout);
     if (baseline) std::fputs(("\n" + dthex::summary_table(*baseline, baseline_options)).c_str(), stdout);
+    std::fputs(sets_summary(sets).c_str(), stdout);
     std::printf("  wrote %s\n", cl.output.c_str());
   }
   return kExitOk;

@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 packages=(
   build-essential cmake pkg-config
   libopenmesh-dev libtet1.5-dev tetgen libeigen3-dev libgtest-dev
-  libcli11-dev nlohmann-json3-dev libexodusii-dev libjemalloc-dev
+  libcli11-dev nlohmann-json3-dev libexodusii-dev libjemalloc-dev calculix-ccx
   python3 python3-vtk9 python3-numpy python3-scipy python3-meshio python3-netcdf4
   clang libclang-rt-14-dev
   chromium

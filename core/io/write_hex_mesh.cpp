@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/io/write_hex_mesh.h>
 
+#include <dthex/hexes/mesh_sets.h>
 #include <dthex/io/atomic_file.h>
 #include <dthex/io/output_file.h>
 
@@ -210,20 +211,46 @@ void write_gmsh(const HexMesh& mesh, OutputFile& file) {
 }
 
 // ---------------------------------------------------------------------------------------
-// Abaqus INP: nodes and C3D8 elements in element set SOLID. No section or material: those
-// belong to the analysis, and a section naming a missing material would not load.
+// Abaqus INP, a file a deck includes (*INCLUDE, INPUT=...): nodes and C3D8 elements in element
+// set SOLID, an element set per part, and for each part's boundary and each patch a node set
+// and an element-based surface of the same name. No *HEADING (a deck has one of its own, and
+// CalculiX refuses a second), no section or material: those belong to the analysis.
 
-void write_abaqus(const HexMesh& mesh, OutputFile& file) {
-  file.print("*HEADING\nom_dthex hex mesh\n*NODE\n");
+// Integers in lines of 16, the most an Abaqus data line of 256 characters surely holds.
+void write_id_lines(OutputFile& file, const std::vector<int>& zero_based_ids) {
+  for (size_t i = 0; i < zero_based_ids.size(); ++i)
+    file.print(i % 16 == 15 || i + 1 == zero_based_ids.size() ? "%d\n" : "%d,", zero_based_ids[i] + 1);
+}
+
+void write_abaqus(const HexMesh& mesh, const MeshSets& sets, OutputFile& file) {
+  file.print("** om_dthex hex mesh: %zu nodes, %zu C3D8 elements, %zu parts. Include it in a deck with\n"
+             "** *INCLUDE, INPUT=<this file>. Element sets: SOLID (all) and one per part; node sets and\n"
+             "** element surfaces of the same name: each part's boundary and each boundary patch.\n",
+             mesh.nodes.size(), mesh.hexes.size(), sets.parts.size());
+  // 13 significant digits: at most 20 characters a field (CalculiX reads no more), within
+  // 5e-14 relative of the double.
+  file.print("*NODE\n");
   for (size_t n = 0; n < mesh.nodes.size(); ++n) {
     const Vec3& p = mesh.nodes[n];
-    file.print("%zu, %.17g, %.17g, %.17g\n", n + 1, p.x(), p.y(), p.z());
+    file.print("%zu,%.13g,%.13g,%.13g\n", n + 1, p.x(), p.y(), p.z());
   }
   file.print("*ELEMENT, TYPE=C3D8, ELSET=SOLID\n");
   for (size_t e = 0; e < mesh.hexes.size(); ++e) {
     const auto& h = mesh.hexes[e];
-    file.print("%zu, %d, %d, %d, %d, %d, %d, %d, %d\n", e + 1, h[0] + 1, h[1] + 1, h[2] + 1, h[3] + 1, h[4] + 1,
-               h[5] + 1, h[6] + 1, h[7] + 1);
+    file.print("%zu,%d,%d,%d,%d,%d,%d,%d,%d\n", e + 1, h[0] + 1, h[1] + 1, h[2] + 1, h[3] + 1, h[4] + 1, h[5] + 1,
+               h[6] + 1, h[7] + 1);
+  }
+  for (const HexSet& part : sets.parts) {
+    file.print("*ELSET, ELSET=%s\n", part.name.c_str());
+    write_id_lines(file, part.hexes);
+  }
+  for (const NodeSet& set : sets.node_sets) {
+    file.print("*NSET, NSET=%s\n", set.name.c_str());
+    write_id_lines(file, set.nodes);
+  }
+  for (const FaceSet& surface : sets.surfaces) {
+    file.print("*SURFACE, NAME=%s, TYPE=ELEMENT\n", surface.name.c_str());
+    for (const HexFace& f : surface.faces) file.print("%d,S%d\n", f.hex + 1, f.side + 1);
   }
 }
 
@@ -328,7 +355,7 @@ HexFormat hex_format_from_path(const std::string& path) {
                    "' (supported:" + supported + ")");
 }
 
-void write_hex_mesh(const HexMesh& mesh, const std::string& path, const HexFields& fields) {
+void write_hex_mesh(const HexMesh& mesh, const std::string& path, const HexFields& fields, const MeshSets* sets) {
   const HexFormat format = hex_format_from_path(path);
   check_mesh(mesh, fields, path);
   write_atomically(path, [&](const std::string& temporary) {
@@ -341,7 +368,7 @@ void write_hex_mesh(const HexMesh& mesh, const std::string& path, const HexField
       case HexFormat::Vtu: write_vtu(mesh, fields, file); break;
       case HexFormat::Vtk: write_legacy_vtk(mesh, fields, file); break;
       case HexFormat::GmshMsh41: write_gmsh(mesh, file); break;
-      case HexFormat::AbaqusInp: write_abaqus(mesh, file); break;
+      case HexFormat::AbaqusInp: write_abaqus(mesh, sets ? *sets : find_mesh_sets(mesh), file); break;
       case HexFormat::FebioFeb: write_febio(mesh, file); break;
       case HexFormat::ExodusII: break;
     }

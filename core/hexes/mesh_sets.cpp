@@ -1,0 +1,229 @@
+// SPDX-License-Identifier: MIT
+#include <dthex/hexes/mesh_sets.h>
+
+#include <dthex/hexes/conformity.h>
+#include <dthex/mesh/triangle_bvh.h>
+#include <dthex/surface/features.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <unordered_map>
+
+namespace dthex {
+namespace {
+
+// Union-find over nodes with path halving.
+struct DisjointSets {
+  std::vector<int> parent;
+  explicit DisjointSets(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int v) {
+    while (parent[size_t(v)] != v) v = parent[size_t(v)] = parent[size_t(parent[size_t(v)])];
+    return v;
+  }
+  void join(int a, int b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[size_t(std::max(a, b))] = std::min(a, b);
+  }
+};
+
+// The side of hex h whose corners are the quad's nodes, or -1.
+int side_of(const std::array<int, 8>& h, const std::array<int, 4>& quad) {
+  std::array<int, 4> q = quad;
+  std::sort(q.begin(), q.end());
+  for (int s = 0; s < 6; ++s) {
+    std::array<int, 4> f;
+    for (int i = 0; i < 4; ++i) f[size_t(i)] = h[size_t(kHexSideCornersOutward[size_t(s)][size_t(i)])];
+    std::sort(f.begin(), f.end());
+    if (f == q) return s;
+  }
+  return -1;
+}
+
+// Area vector of a quad (half the cross product of its diagonals): its length is the area of a
+// planar quad, and its direction the outward normal for an outward ring.
+Vec3 area_vector(const HexMesh& mesh, const std::array<int, 4>& q) {
+  const Vec3 d0 = mesh.nodes[size_t(q[2])] - mesh.nodes[size_t(q[0])];
+  const Vec3 d1 = mesh.nodes[size_t(q[3])] - mesh.nodes[size_t(q[1])];
+  return 0.5 * d0.cross(d1);
+}
+
+double quad_area(const HexMesh& mesh, const std::array<int, 4>& q) {
+  const Vec3& a = mesh.nodes[size_t(q[0])];
+  const Vec3& b = mesh.nodes[size_t(q[1])];
+  const Vec3& c = mesh.nodes[size_t(q[2])];
+  const Vec3& d = mesh.nodes[size_t(q[3])];
+  return 0.5 * ((b - a).cross(c - a).norm() + (c - a).cross(d - a).norm());
+}
+
+NodeSet nodes_of(const std::string& name, const std::vector<size_t>& quad_ids,
+                 const std::vector<std::array<int, 4>>& quads) {
+  NodeSet set{name, {}};
+  for (size_t q : quad_ids) set.nodes.insert(set.nodes.end(), quads[q].begin(), quads[q].end());
+  std::sort(set.nodes.begin(), set.nodes.end());
+  set.nodes.erase(std::unique(set.nodes.begin(), set.nodes.end()), set.nodes.end());
+  return set;
+}
+
+// Groups of item ids sharing a label, largest weight first (ties by first id, so the order
+// does not depend on the sort's stability).
+std::vector<std::vector<size_t>> groups_by_weight(const std::vector<int>& label, const std::vector<double>& weight) {
+  std::unordered_map<int, size_t> index;
+  std::vector<std::vector<size_t>> groups;
+  std::vector<double> total;
+  for (size_t i = 0; i < label.size(); ++i) {
+    auto [it, fresh] = index.try_emplace(label[i], groups.size());
+    if (fresh) {
+      groups.emplace_back();
+      total.push_back(0);
+    }
+    groups[it->second].push_back(i);
+    total[it->second] += weight[i];
+  }
+  std::vector<size_t> order(groups.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    if (total[a] != total[b]) return total[a] > total[b];
+    return groups[a].front() < groups[b].front();
+  });
+  std::vector<std::vector<size_t>> sorted;
+  for (size_t g : order) sorted.push_back(std::move(groups[g]));
+  return sorted;
+}
+
+// Patch labels of boundary quads from the hex boundary alone: quads joined across edges of
+// exactly two quads whose normals differ by at most the crease angle.
+std::vector<int> patches_by_hex_creases(const HexMesh& mesh, const std::vector<std::array<int, 4>>& quads,
+                                        double crease_angle_degrees) {
+  std::vector<std::pair<std::pair<int, int>, int>> edge_uses;
+  edge_uses.reserve(4 * quads.size());
+  for (size_t q = 0; q < quads.size(); ++q)
+    for (int i = 0; i < 4; ++i) {
+      const int a = quads[q][size_t(i)], b = quads[q][size_t((i + 1) % 4)];
+      edge_uses.push_back({{std::min(a, b), std::max(a, b)}, int(q)});
+    }
+  std::sort(edge_uses.begin(), edge_uses.end());
+  const double cos_crease = std::cos(crease_angle_degrees * M_PI / 180.0);
+  std::vector<Vec3> normal(quads.size());
+  for (size_t q = 0; q < quads.size(); ++q) normal[q] = area_vector(mesh, quads[q]).normalized();
+  DisjointSets patches(quads.size());
+  for (size_t i = 0; i < edge_uses.size();) {
+    size_t j = i;
+    while (j < edge_uses.size() && edge_uses[j].first == edge_uses[i].first) ++j;
+    if (j - i == 2) {
+      const int a = edge_uses[i].second, b = edge_uses[i + 1].second;
+      if (normal[size_t(a)].dot(normal[size_t(b)]) >= cos_crease) patches.join(a, b);
+    }
+    i = j;
+  }
+  std::vector<int> label(quads.size());
+  for (size_t q = 0; q < quads.size(); ++q) label[q] = patches.find(int(q));
+  return label;
+}
+
+// Patch labels of boundary quads from the input surface: its triangles joined across every
+// edge that is not a feature edge, and each quad labelled by the triangle closest to its centre.
+std::vector<int> patches_by_input_creases(const HexMesh& mesh, const std::vector<std::array<int, 4>>& quads,
+                                          const TriSurface& input, double crease_angle_degrees) {
+  std::vector<std::array<int, 2>> creases = feature_edges(input, crease_angle_degrees);
+  for (auto& e : creases) e = {std::min(e[0], e[1]), std::max(e[0], e[1])};
+  std::sort(creases.begin(), creases.end());
+  std::vector<std::pair<std::array<int, 2>, int>> edge_uses;
+  edge_uses.reserve(3 * input.triangles.size());
+  for (size_t t = 0; t < input.triangles.size(); ++t)
+    for (int i = 0; i < 3; ++i) {
+      const int a = input.triangles[t][size_t(i)], b = input.triangles[t][size_t((i + 1) % 3)];
+      edge_uses.push_back({{std::min(a, b), std::max(a, b)}, int(t)});
+    }
+  std::sort(edge_uses.begin(), edge_uses.end());
+  DisjointSets regions(input.triangles.size());
+  for (size_t i = 0; i < edge_uses.size();) {
+    size_t j = i;
+    while (j < edge_uses.size() && edge_uses[j].first == edge_uses[i].first) ++j;
+    if (j - i == 2 && !std::binary_search(creases.begin(), creases.end(), edge_uses[i].first))
+      regions.join(edge_uses[i].second, edge_uses[i + 1].second);
+    i = j;
+  }
+  const TriangleBvh tree(input);
+  std::vector<int> label(quads.size());
+  int hint = -1;
+  for (size_t q = 0; q < quads.size(); ++q) {
+    Vec3 centre = Vec3::Zero();
+    for (int n : quads[q]) centre += mesh.nodes[size_t(n)] / 4.0;
+    const TriangleBvh::ClosestPoint c = hint < 0 ? tree.closest_point(centre) : tree.closest_point_near(centre, hint);
+    hint = c.triangle;
+    label[q] = c.triangle < 0 ? -1 : regions.find(c.triangle);
+  }
+  return label;
+}
+
+MeshSets sets_with_patches(const HexMesh& mesh, const std::vector<std::array<int, 4>>& quads,
+                           const std::vector<int>& owners, const std::vector<int>& patch_label) {
+  MeshSets sets;
+  // Parts: hexes connected through shared nodes.
+  DisjointSets nodes(mesh.nodes.size());
+  for (const auto& h : mesh.hexes)
+    for (int i = 1; i < 8; ++i) nodes.join(h[0], h[size_t(i)]);
+  std::vector<int> part_label(mesh.hexes.size());
+  for (size_t h = 0; h < mesh.hexes.size(); ++h) part_label[h] = nodes.find(mesh.hexes[h][0]);
+  const std::vector<std::vector<size_t>> parts =
+      groups_by_weight(part_label, std::vector<double>(mesh.hexes.size(), 1.0));
+  std::vector<int> part_of_hex(mesh.hexes.size(), -1);
+  for (size_t p = 0; p < parts.size(); ++p) {
+    HexSet part{"body" + std::to_string(p + 1), {}};
+    for (size_t h : parts[p]) {
+      part.hexes.push_back(int(h));
+      part_of_hex[h] = int(p);
+    }
+    sets.parts.push_back(std::move(part));
+  }
+
+  // Boundary faces, each with its hex's side.
+  std::vector<HexFace> faces(quads.size());
+  std::vector<double> areas(quads.size());
+  for (size_t q = 0; q < quads.size(); ++q) {
+    faces[q] = {owners[q], side_of(mesh.hexes[size_t(owners[q])], quads[q])};
+    areas[q] = quad_area(mesh, quads[q]);
+  }
+  auto face_set = [&](const std::string& name, const std::vector<size_t>& ids) {
+    FaceSet set{name, {}, 0};
+    for (size_t q : ids) {
+      set.faces.push_back(faces[q]);
+      set.area += areas[q];
+    }
+    sets.surfaces.push_back(std::move(set));
+    sets.node_sets.push_back(nodes_of(name, ids, quads));
+  };
+  std::vector<std::vector<size_t>> boundary_of_part(parts.size());
+  for (size_t q = 0; q < quads.size(); ++q) boundary_of_part[size_t(part_of_hex[size_t(owners[q])])].push_back(q);
+  for (size_t p = 0; p < parts.size(); ++p) face_set(sets.parts[p].name + "_boundary", boundary_of_part[p]);
+  // A patch never spans two parts: the label is made unique per part.
+  std::vector<int> label(quads.size());
+  std::map<std::pair<int, int>, int> unique;
+  for (size_t q = 0; q < quads.size(); ++q)
+    label[q] = unique.try_emplace({part_of_hex[size_t(owners[q])], patch_label[q]}, int(unique.size())).first->second;
+  const std::vector<std::vector<size_t>> patch_groups = groups_by_weight(label, areas);
+  for (size_t p = 0; p < patch_groups.size(); ++p) face_set("patch" + std::to_string(p + 1), patch_groups[p]);
+  return sets;
+}
+
+}  // namespace
+
+MeshSets find_mesh_sets(const HexMesh& mesh, const MeshSetsOptions& options) {
+  std::vector<int> owners;
+  const std::vector<std::array<int, 4>> quads = boundary_quads(mesh, &owners);
+  return sets_with_patches(mesh, quads, owners, patches_by_hex_creases(mesh, quads, options.crease_angle_degrees));
+}
+
+MeshSets find_mesh_sets(const HexMesh& mesh, const TriSurface& input, const MeshSetsOptions& options) {
+  std::vector<int> owners;
+  const std::vector<std::array<int, 4>> quads = boundary_quads(mesh, &owners);
+  return sets_with_patches(mesh, quads, owners,
+                           patches_by_input_creases(mesh, quads, input, options.crease_angle_degrees));
+}
+
+}  // namespace dthex

@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: MIT
+// The named sets an analyst needs to load and fix a hex mesh without picking nodes by hand:
+// its parts (each connected body), each part's boundary as faces and nodes, and the boundary
+// split into patches at its sharp creases (the planar cut of a bone is a patch: it is where
+// the bone is fixed). The writers carry them in each format's own way (docs/METHOD.md,
+// Output files).
+#pragma once
+
+#include <dthex/mesh/types.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace dthex {
+
+//! A face of a hex: the hex's index and its side, numbered as Abaqus/CalculiX number the faces
+//! of a C3D8 (0-based here: side s is the label S(s+1)). With VTK's corner order the sides are
+//! {0,1,2,3}, {4,7,6,5}, {0,4,5,1}, {1,5,6,2}, {2,6,7,3}, {3,7,4,0}.
+struct HexFace {
+  int hex = -1;
+  int side = -1;
+  bool operator==(const HexFace& o) const { return hex == o.hex && side == o.side; }
+};
+
+//! The corners of each side, ordered so that the face's normal (right-hand rule) points out of a
+//! positively oriented hex.
+constexpr std::array<std::array<int, 4>, 6> kHexSideCornersOutward = {{
+    {0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}}};
+
+struct HexSet {
+  std::string name;
+  std::vector<int> hexes;  //!< ascending
+};
+struct FaceSet {
+  std::string name;
+  std::vector<HexFace> faces;  //!< in the order boundary_quads() finds them (by hex)
+  double area = 0;             //!< sum of the faces' areas (each quad as two triangles)
+};
+struct NodeSet {
+  std::string name;
+  std::vector<int> nodes;  //!< ascending
+};
+
+//! Everything find_mesh_sets() names. Names are unique within each kind, and a face set and
+//! the node set of its faces' nodes share a name.
+struct MeshSets {
+  std::vector<HexSet> parts;         //!< body1, body2, ... by hex count, largest first
+  std::vector<FaceSet> surfaces;     //!< body1_boundary, ..., then patch1, patch2, ... by area
+  std::vector<NodeSet> node_sets;    //!< one per surface, same name, its faces' nodes
+};
+
+struct MeshSetsOptions {
+  //! A crease separates patches where the two faces beside an edge differ in normal by more
+  //! than this angle, in degrees (the feature angle of the coarsening by default). Smaller
+  //! splits curved regions into many patches; larger merges a cut with the surface around it.
+  double crease_angle_degrees = 60;
+};
+
+//! Finds the parts (hexes connected through shared nodes), each part's boundary (faces used by
+//! one hex) and the boundary's patches. Here the patches come from the hex boundary itself:
+//! faces joined across boundary edges whose dihedral angle is below the crease angle (an edge of
+//! more than two boundary faces always separates). That finds the sharp edges of a mesh whose
+//! boundary keeps them, not a crease that the boundary rounds over a few faces: use the overload
+//! below when the input surface is at hand. Preconditions: node indices in range. Pure.
+//! O(n log n) in the number of hexes.
+MeshSets find_mesh_sets(const HexMesh& mesh, const MeshSetsOptions& options = {});
+
+//! The same, with the patches taken from the surface the mesh was made from: its triangles
+//! joined across every edge that is not a feature edge (dihedral above the crease angle), and
+//! each boundary face given the region of the input triangle closest to its centre. The planar
+//! cut of a scanned bone is then one patch even where the hexes round its rim. Preconditions:
+//! `input` closed and manifold (as om_dthex verified it). O(n log n).
+MeshSets find_mesh_sets(const HexMesh& mesh, const TriSurface& input, const MeshSetsOptions& options = {});
+
+}  // namespace dthex

@@ -1,0 +1,116 @@
+// SPDX-License-Identifier: MIT
+#include <dthex/hexes/mesh_sets.h>
+#include "boundary_fixtures.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <set>
+
+using namespace dthex;
+using dthex::testing::hex_block;
+
+namespace {
+
+Vec3 face_area_vector(const HexMesh& m, const HexFace& f) {
+  const auto& c = kHexSideCornersOutward[size_t(f.side)];
+  const auto& h = m.hexes[size_t(f.hex)];
+  const Vec3 d0 = m.nodes[size_t(h[size_t(c[2])])] - m.nodes[size_t(h[size_t(c[0])])];
+  const Vec3 d1 = m.nodes[size_t(h[size_t(c[3])])] - m.nodes[size_t(h[size_t(c[1])])];
+  return 0.5 * d0.cross(d1);
+}
+
+Vec3 hex_centre(const HexMesh& m, int hex) {
+  Vec3 c(0, 0, 0);
+  for (int n : m.hexes[size_t(hex)]) c += m.nodes[size_t(n)] / 8.0;
+  return c;
+}
+
+const FaceSet& surface(const MeshSets& s, const std::string& name) {
+  for (const FaceSet& f : s.surfaces)
+    if (f.name == name) return f;
+  throw std::runtime_error("no surface " + name);
+}
+
+}  // namespace
+
+TEST(MeshSets, ABlockIsOnePartWithSixPatchesByArea) {
+  const HexMesh m = hex_block(Vec3(0, 0, 0), Vec3(3, 2, 1), 3, 2, 1);
+  const MeshSets s = find_mesh_sets(m);
+  ASSERT_EQ(s.parts.size(), 1u);
+  EXPECT_EQ(s.parts[0].name, "body1");
+  EXPECT_EQ(s.parts[0].hexes.size(), 6u);
+  const FaceSet& boundary = surface(s, "body1_boundary");
+  EXPECT_EQ(boundary.faces.size(), 22u);  // 2 (3x2 + 3x1 + 2x1)
+  EXPECT_NEAR(boundary.area, 22.0, 1e-12);
+  // Each face's side is an outward face of its hex: on the boundary, its area vector points away
+  // from its hex's centre, and no face is listed twice.
+  std::set<std::pair<int, int>> seen;
+  for (const HexFace& f : boundary.faces) {
+    const auto& c = kHexSideCornersOutward[size_t(f.side)];
+    Vec3 centre(0, 0, 0);
+    for (int i : c) centre += m.nodes[size_t(m.hexes[size_t(f.hex)][size_t(i)])] / 4.0;
+    EXPECT_GT(face_area_vector(m, f).dot(centre - hex_centre(m, f.hex)), 0) << f.hex << " S" << f.side + 1;
+    EXPECT_NEAR(face_area_vector(m, f).norm(), 1.0, 1e-12);
+    EXPECT_TRUE(seen.insert({f.hex, f.side}).second);
+  }
+  // Patches are the six sides of the box, largest first: 3x2 twice, 3x1 twice, 2x1 twice.
+  std::vector<double> areas;
+  for (const FaceSet& f : s.surfaces)
+    if (f.name.rfind("patch", 0) == 0) areas.push_back(f.area);
+  ASSERT_EQ(areas.size(), 6u);
+  const std::vector<double> expected = {6, 6, 3, 3, 2, 2};
+  for (size_t i = 0; i < 6; ++i) EXPECT_NEAR(areas[i], expected[i], 1e-12) << "patch" << i + 1;
+  EXPECT_EQ(surface(s, "patch1").name, "patch1");
+  // Each face set has a node set of its faces' nodes, of the same name.
+  ASSERT_EQ(s.node_sets.size(), s.surfaces.size());
+  EXPECT_EQ(s.node_sets[0].name, "body1_boundary");
+  EXPECT_EQ(s.node_sets[0].nodes.size(), 4u * 3u * 2u);  // every node of a 3x2x1 block is on its boundary
+  for (size_t i = 1; i < s.node_sets.size(); ++i) {
+    EXPECT_EQ(s.node_sets[i].name, s.surfaces[i].name);
+    const size_t faces = s.surfaces[i].faces.size();
+    // A 3x2 side has 12 nodes, a 3x1 side 8, a 2x1 side 6.
+    EXPECT_EQ(s.node_sets[i].nodes.size(), faces == 6 ? 12u : faces == 3 ? 8u : 6u) << s.node_sets[i].name;
+  }
+}
+
+TEST(MeshSets, AWideCreaseAngleJoinsTheBoxIntoOnePatch) {
+  const HexMesh m = hex_block(Vec3(0, 0, 0), Vec3(3, 2, 1), 3, 2, 1);
+  MeshSetsOptions options;
+  options.crease_angle_degrees = 100;  // the box's 90-degree edges are no longer creases
+  const MeshSets s = find_mesh_sets(m, options);
+  ASSERT_EQ(s.surfaces.size(), 2u);
+  EXPECT_EQ(s.surfaces[1].name, "patch1");
+  EXPECT_EQ(s.surfaces[1].faces.size(), 22u);
+}
+
+TEST(MeshSets, DisjointBodiesArePartsNamedBySize) {
+  // The small body comes first in the mesh; body1 must still be the larger one.
+  HexMesh small = hex_block(Vec3(10, 0, 0), Vec3(11, 1, 1), 1, 1, 1);
+  const HexMesh large = hex_block(Vec3(0, 0, 0), Vec3(2, 2, 2), 2, 2, 2);
+  const int offset = int(small.nodes.size());
+  small.nodes.insert(small.nodes.end(), large.nodes.begin(), large.nodes.end());
+  for (auto h : large.hexes) {
+    for (int& n : h) n += offset;
+    small.hexes.push_back(h);
+  }
+  const MeshSets s = find_mesh_sets(small);
+  ASSERT_EQ(s.parts.size(), 2u);
+  EXPECT_EQ(s.parts[0].name, "body1");
+  EXPECT_EQ(s.parts[0].hexes, (std::vector<int>{1, 2, 3, 4, 5, 6, 7, 8}));
+  EXPECT_EQ(s.parts[1].name, "body2");
+  EXPECT_EQ(s.parts[1].hexes, (std::vector<int>{0}));
+  EXPECT_EQ(surface(s, "body1_boundary").faces.size(), 24u);
+  EXPECT_EQ(surface(s, "body2_boundary").faces.size(), 6u);
+  for (const HexFace& f : surface(s, "body2_boundary").faces) EXPECT_EQ(f.hex, 0);
+  // 6 sides of each box: 12 patches, the large box's (area 4) first.
+  size_t patches = 0;
+  for (const FaceSet& f : s.surfaces)
+    if (f.name.rfind("patch", 0) == 0) {
+      ++patches;
+      EXPECT_NEAR(f.area, patches <= 6 ? 4.0 : 1.0, 1e-12) << f.name;
+    }
+  EXPECT_EQ(patches, 12u);
+}
