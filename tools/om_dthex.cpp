@@ -37,8 +37,12 @@ std::string sets_summary(const dthex::MeshSets& sets) {
       patches += " " + s.name + " (" + std::to_string(s.faces.size()) + " faces, area " + area + ")";
     }
   if (patch_count > 6) patches += " ...";
+  std::string user;
+  for (const auto& s : sets.surfaces)
+    if (s.name.rfind("patch", 0) != 0 && s.name.find("_boundary") == std::string::npos)
+      user += "\n  set " + s.name + ": " + std::to_string(s.faces.size()) + " faces";
   return "  parts: " + std::to_string(sets.parts.size()) + parts + "\n  boundary patches at creases: " +
-         std::to_string(patch_count) + patches + "\n";
+         std::to_string(patch_count) + patches + user + "\n";
 }
 
 
@@ -48,6 +52,8 @@ struct CommandLine {
   std::string input, output, report, coarse_surface;
   dthex::PipelineOptions pipeline;
   bool quiet = false, verbose = false, verify_only = false, compare_thex = false;
+  std::vector<std::string> set_texts;         //!< --set, as given
+  std::vector<dthex::UserSetSpec> user_sets;  //!< --set, parsed
 };
 
 std::string lower_extension(const std::string& path) {
@@ -70,6 +76,7 @@ void validate(CommandLine& cl) {
     throw dthex::InputError(std::string("-o/--output: ") + e.what());
   }
   check_writable("-o/--output", cl.output);
+  for (const std::string& text : cl.set_texts) cl.user_sets.push_back(dthex::parse_user_set(text));
   if (!cl.report.empty()) {
     const std::string ext = lower_extension(cl.report);
     if (ext != ".json" && ext != ".html")
@@ -138,7 +145,8 @@ int run(CommandLine& cl) {
   progress.begin("write");
   dthex::HexFields fields{result.quality.shape, result.quality.scaled_jacobian};
   dthex::AtomicWriteGroup outputs;  // all outputs appear together, or none does
-  const dthex::MeshSets sets = dthex::find_mesh_sets(result.hexes, result.input);
+  dthex::MeshSets sets = dthex::find_mesh_sets(result.hexes, result.input);
+  dthex::add_user_sets(sets, result.hexes, cl.user_sets);  // an empty set is an error, before any file
   dthex::write_hex_mesh(result.hexes, cl.output, fields, &sets);
   if (!cl.coarse_surface.empty()) dthex::write_surface(result.coarse, cl.coarse_surface);
   if (!cl.report.empty()) {
@@ -247,6 +255,11 @@ int main(int argc, char** argv) {
                  "seconds allowed for TetGen (exceeded: exit 3) and for the untangling optimizer (it stops there and\nreports what it reached; with --strict a remaining inverted hex is exit 3)")
       ->default_val(600.0)
       ->check(CLI::PositiveNumber);
+  app.add_option("--set", cl.set_texts,
+                 "name a set of boundary faces and nodes, written where the format has sets (.inp):\n"
+                 "NAME=box:X0,Y0,Z0,X1,Y1,Z1 (faces with every corner in the box) or\n"
+                 "NAME=plane:PX,PY,PZ,NX,NY,NZ,DISTANCE (every corner within DISTANCE of the plane\n"
+                 "through P with normal N); repeatable; a set that selects no face is an error");
   app.add_option("--report", cl.report,
                  "write a report; the extension picks it: .json (statistics, histograms, timings, options) or .html\n"
                  "(one self-contained page: stage table, quality histograms, 3D view coloured by quality)");

@@ -11,6 +11,8 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <regex>
+#include <sstream>
 #include <unordered_map>
 
 namespace dthex {
@@ -224,6 +226,89 @@ MeshSets find_mesh_sets(const HexMesh& mesh, const TriSurface& input, const Mesh
   const std::vector<std::array<int, 4>> quads = boundary_quads(mesh, &owners);
   return sets_with_patches(mesh, quads, owners,
                            patches_by_input_creases(mesh, quads, input, options.crease_angle_degrees));
+}
+
+namespace {
+
+bool is_generated_name(const std::string& name) {
+  static const std::regex generated(R"((body\d+(_boundary)?)|(patch\d+))");
+  return std::regex_match(name, generated);
+}
+
+}  // namespace
+
+UserSetSpec parse_user_set(const std::string& text) {
+  const std::string forms = "expected NAME=box:X0,Y0,Z0,X1,Y1,Z1 or NAME=plane:PX,PY,PZ,NX,NY,NZ,DISTANCE";
+  static const std::regex form(R"(([A-Za-z][A-Za-z0-9_]*)=(box|plane):(.*))");
+  std::smatch m;
+  if (!std::regex_match(text, m, form)) throw InputError("--set '" + text + "': " + forms);
+  UserSetSpec spec;
+  spec.name = m[1];
+  if (is_generated_name(spec.name))
+    throw InputError("--set '" + text + "': the name '" + spec.name +
+                     "' is one om_dthex gives its own sets (bodyN, bodyN_boundary, patchN); choose another");
+  spec.kind = m[2] == "box" ? UserSetSpec::Kind::Box : UserSetSpec::Kind::Plane;
+  std::vector<double> values;
+  std::stringstream list(m[3].str());
+  std::string field;
+  while (std::getline(list, field, ',')) {
+    char* end = nullptr;
+    const double v = std::strtod(field.c_str(), &end);
+    if (field.empty() || end != field.c_str() + field.size() || !std::isfinite(v))
+      throw InputError("--set '" + text + "': '" + field + "' is not a number; " + forms);
+    values.push_back(v);
+  }
+  const size_t wanted = spec.kind == UserSetSpec::Kind::Box ? 6 : 7;
+  if (values.size() != wanted)
+    throw InputError("--set '" + text + "': " + std::to_string(values.size()) + " numbers where " +
+                     std::to_string(wanted) + " are needed; " + forms);
+  if (spec.kind == UserSetSpec::Kind::Box) {
+    spec.lo = Vec3(std::min(values[0], values[3]), std::min(values[1], values[4]), std::min(values[2], values[5]));
+    spec.hi = Vec3(std::max(values[0], values[3]), std::max(values[1], values[4]), std::max(values[2], values[5]));
+  } else {
+    spec.point = Vec3(values[0], values[1], values[2]);
+    spec.normal = Vec3(values[3], values[4], values[5]);
+    spec.distance = values[6];
+    if (spec.normal.norm() == 0) throw InputError("--set '" + text + "': the plane's normal is zero");
+    if (spec.distance < 0) throw InputError("--set '" + text + "': the distance is negative");
+    spec.normal.normalize();
+  }
+  return spec;
+}
+
+void add_user_sets(MeshSets& sets, const HexMesh& mesh, const std::vector<UserSetSpec>& specs) {
+  std::vector<HexFace> boundary;
+  for (const FaceSet& s : sets.surfaces)
+    if (s.name.size() > 9 && s.name.compare(s.name.size() - 9, 9, "_boundary") == 0 && is_generated_name(s.name))
+      boundary.insert(boundary.end(), s.faces.begin(), s.faces.end());
+  for (const UserSetSpec& spec : specs) {
+    for (const FaceSet& s : sets.surfaces)
+      if (s.name == spec.name) throw InputError("--set " + spec.name + ": the name is given twice");
+    auto inside = [&](const Vec3& x) {
+      if (spec.kind == UserSetSpec::Kind::Box)
+        return (x.array() >= spec.lo.array()).all() && (x.array() <= spec.hi.array()).all();
+      return std::abs((x - spec.point).dot(spec.normal)) <= spec.distance;
+    };
+    FaceSet faces{spec.name, {}, 0};
+    NodeSet nodes{spec.name, {}};
+    for (const HexFace& f : boundary) {
+      std::array<int, 4> q;
+      for (int i = 0; i < 4; ++i)
+        q[size_t(i)] = mesh.hexes[size_t(f.hex)][size_t(kHexSideCornersOutward[size_t(f.side)][size_t(i)])];
+      if (!std::all_of(q.begin(), q.end(), [&](int n) { return inside(mesh.nodes[size_t(n)]); })) continue;
+      faces.faces.push_back(f);
+      faces.area += quad_area(mesh, q);
+      nodes.nodes.insert(nodes.nodes.end(), q.begin(), q.end());
+    }
+    if (faces.faces.empty())
+      throw InputError("--set " + spec.name + ": no boundary face of the mesh lies " +
+                       (spec.kind == UserSetSpec::Kind::Box ? "inside the box" : "within the distance of the plane") +
+                       " (every corner of a face must); check the coordinates against the input's bounding box");
+    std::sort(nodes.nodes.begin(), nodes.nodes.end());
+    nodes.nodes.erase(std::unique(nodes.nodes.begin(), nodes.nodes.end()), nodes.nodes.end());
+    sets.surfaces.push_back(std::move(faces));
+    sets.node_sets.push_back(std::move(nodes));
+  }
 }
 
 }  // namespace dthex

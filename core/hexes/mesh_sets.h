@@ -73,4 +73,26 @@ MeshSets find_mesh_sets(const HexMesh& mesh, const MeshSetsOptions& options = {}
 //! `input` closed and manifold (as om_dthex verified it). O(n log n).
 MeshSets find_mesh_sets(const HexMesh& mesh, const TriSurface& input, const MeshSetsOptions& options = {});
 
+//! A set the user names on the command line (--set NAME=box:... or NAME=plane:...): the boundary
+//! faces all of whose corners lie in an axis-aligned box, or within a distance of a plane.
+struct UserSetSpec {
+  enum class Kind { Box, Plane };
+  std::string name;
+  Kind kind = Kind::Box;
+  Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();          //!< Box: opposite corners, any order
+  Vec3 point = Vec3::Zero(), normal = Vec3::UnitZ();  //!< Plane: a point on it and its normal
+  double distance = 0;                                //!< Plane: how far a corner may lie from it
+};
+
+//! Parses "NAME=box:X0,Y0,Z0,X1,Y1,Z1" or "NAME=plane:PX,PY,PZ,NX,NY,NZ,DISTANCE" (a point on
+//! the plane, its normal, and the distance, in the input's units). NAME is letters, digits and
+//! underscores, starting with a letter, and not one of the names find_mesh_sets() makes
+//! (bodyN, bodyN_boundary, patchN). Throws InputError quoting the text and the expected form.
+UserSetSpec parse_user_set(const std::string& text);
+
+//! Adds each user set to `sets` as a face set and a node set of its name: the boundary faces
+//! (those of the parts' boundaries) whose four corners are all inside it. Throws InputError
+//! naming the set when it selects no face, or when its name is already used.
+void add_user_sets(MeshSets& sets, const HexMesh& mesh, const std::vector<UserSetSpec>& specs);
+
 }  // namespace dthex

@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <functional>
 #include <set>
 
 using namespace dthex;
@@ -113,4 +114,46 @@ TEST(MeshSets, DisjointBodiesArePartsNamedBySize) {
       EXPECT_NEAR(f.area, patches <= 6 ? 4.0 : 1.0, 1e-12) << f.name;
     }
   EXPECT_EQ(patches, 12u);
+}
+
+TEST(MeshSets, UserSetsByBoxAndPlaneSelectWholeBoundaryFaces) {
+  const HexMesh m = hex_block(Vec3(0, 0, 0), Vec3(3, 2, 1), 3, 2, 1);
+  MeshSets s = find_mesh_sets(m);
+  const size_t before = s.surfaces.size();
+  // The x = 0 side (2 faces, area 2) by a thin box; the x = 3 side by its plane. The box holds
+  // the corner nodes of the faces next to the side but no whole face of theirs.
+  add_user_sets(s, m, {parse_user_set("fixed=box:0.1,-1,-1,-0.1,3,2"),
+                       parse_user_set("loaded=plane:3,0,0,2,0,0,1e-9")});
+  ASSERT_EQ(s.surfaces.size(), before + 2);
+  const FaceSet& fixed = surface(s, "fixed");
+  EXPECT_EQ(fixed.faces.size(), 2u);
+  EXPECT_NEAR(fixed.area, 2.0, 1e-12);
+  for (const HexFace& f : fixed.faces) EXPECT_EQ(f.side, 5) << "S6 is the x = 0 side of a VTK-ordered hex";
+  EXPECT_EQ(s.node_sets.back().name, "loaded");
+  EXPECT_EQ(s.node_sets.back().nodes.size(), 6u);
+  for (int n : s.node_sets.back().nodes) EXPECT_EQ(m.nodes[size_t(n)].x(), 3.0);
+}
+
+TEST(MeshSets, UserSetsRefuseBadTextGeneratedNamesAndEmptySelections) {
+  auto message_of = [](const std::function<void()>& f) {
+    try {
+      f();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no InputError");
+  };
+  EXPECT_NE(message_of([] { parse_user_set("a=box:1,2,3"); }).find("3 numbers where 6"), std::string::npos);
+  EXPECT_NE(message_of([] { parse_user_set("a=box:1,2,x,4,5,6"); }).find("'x' is not a number"), std::string::npos);
+  EXPECT_NE(message_of([] { parse_user_set("a=sphere:1,2,3,4"); }).find("expected NAME=box:"), std::string::npos);
+  EXPECT_NE(message_of([] { parse_user_set("patch2=box:0,0,0,1,1,1"); }).find("'patch2'"), std::string::npos);
+  EXPECT_NE(message_of([] { parse_user_set("p=plane:0,0,0,0,0,0,1"); }).find("normal is zero"), std::string::npos);
+  const HexMesh m = hex_block(Vec3(0, 0, 0), Vec3(1, 1, 1), 1, 1, 1);
+  MeshSets s = find_mesh_sets(m);
+  const std::string empty = message_of([&] { add_user_sets(s, m, {parse_user_set("far=box:5,5,5,6,6,6")}); });
+  EXPECT_NE(empty.find("--set far: no boundary face"), std::string::npos) << empty;
+  const std::string twice = message_of([&] {
+    add_user_sets(s, m, {parse_user_set("top=plane:0,0,1,0,0,1,0"), parse_user_set("top=plane:0,0,1,0,0,1,0")});
+  });
+  EXPECT_NE(twice.find("given twice"), std::string::npos) << twice;
 }

@@ -91,6 +91,32 @@ TEST(Cli, OpenSurfaceIsRefusedAndWritesNothing) {
   EXPECT_EQ(entries_in(dir), 1u);  // only the input
 }
 
+TEST(Cli, UserSetsReachTheInpAndAnEmptyOneWritesNothing) {
+  const fs::path dir = scratch("sets");
+  // sphere728 lies in [-1, 1]^3: its top cap is the boundary above z = 0.8.
+  const CommandRun ok = om_dthex(mesh("sphere728.off") + " -o " + (dir / "s.inp").string() +
+                                     " --set cap=box:-2,-2,0.8,2,2,2 --report " + (dir / "s.json").string(),
+                                 dir);
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_NE(ok.out.find("set cap: "), std::string::npos) << ok.out;
+  const std::string inp = read_bytes(dir / "s.inp");
+  EXPECT_NE(inp.find("*SURFACE, NAME=cap, TYPE=ELEMENT\n"), std::string::npos);
+  EXPECT_NE(inp.find("*NSET, NSET=cap\n"), std::string::npos);
+  fs::remove(dir / "s.inp");
+  fs::remove(dir / "s.json");
+  // A box beside the sphere selects nothing: exit 2 naming the set, and no file at all.
+  const CommandRun empty = om_dthex(mesh("sphere728.off") + " -o " + (dir / "e.inp").string() +
+                                        " --set far=box:5,5,5,6,6,6 --report " + (dir / "e.json").string(),
+                                    dir);
+  EXPECT_EQ(empty.exit_code, 2);
+  EXPECT_NE(empty.err.find("--set far"), std::string::npos) << empty.err;
+  EXPECT_EQ(entries_in(dir), 0u);
+  // Bad text is refused before any meshing.
+  const CommandRun bad = om_dthex(mesh("sphere728.off") + " -o " + (dir / "b.inp").string() + " --set x=box:1,2", dir);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("2 numbers where 6 are needed"), std::string::npos) << bad.err;
+}
+
 TEST(Cli, InwardSurfaceIsFlippedAndVerifies) {
   const fs::path dir = scratch("inward");
   const CommandRun r = om_dthex(mesh("heart.off") + " --verify-only", dir);
