@@ -2,8 +2,8 @@
 // The named sets an analyst needs to load and fix a hex mesh without picking nodes by hand:
 // its parts (each connected body), each part's boundary as faces and nodes, and the boundary
 // split into patches at its sharp creases (the planar cut of a bone is a patch: it is where
-// the bone is fixed). The writers carry them in each format's own way (docs/METHOD.md,
-// Output files).
+// the bone is fixed). The INP writer carries them as element sets, node sets and element
+// surfaces (docs/METHOD.md section 8, Sets for the solver).
 #pragma once
 
 #include <dthex/mesh/types.h>
