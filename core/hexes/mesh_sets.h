@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The named sets an analyst needs to load and fix a hex mesh without picking nodes by hand:
 // its parts (each connected body), each part's boundary as faces and nodes, and the boundary
-// split into patches at its sharp creases (the planar cut of a bone is a patch: it is where
-// the bone is fixed). The INP writer carries them as element sets, node sets and element
+// split into patches at its sharp creases (a cut with sharp edges is a patch: it is where a
+// bone is fixed). The INP writer carries them as element sets, node sets and element
 // surfaces (docs/METHOD.md section 8, Sets for the solver).
 #pragma once
 
