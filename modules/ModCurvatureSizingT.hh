@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Curvature sizing field for DTHex coarsening (DESIGN.md step 3) and the Decimater module
+// Curvature sizing field for DTHex coarsening (docs/METHOD.md section 3, Coarsening: Sizing
+// field) and the Decimater module
 // that stores it in the vertex property "v:dthex_size" (see size_property_name()).
 //
 // h(P) = clamp(alpha * rho_P, h_min, h_max), alpha = 2 sqrt(eps (2 - eps)), rho_P the smallest
@@ -162,7 +163,8 @@ std::pair<double, double> sizing_bounds(const Mesh& mesh, const CurvatureSizingO
   return {h_min, std::max(h_min, h_max)};
 }
 
-//! The sizing field (indexed by vertex idx) of DESIGN.md step 3 on the mesh as it is.
+//! The sizing field (indexed by vertex idx) of docs/METHOD.md section 3 (Coarsening) on the
+//! mesh as it is.
 template <class Mesh>
 std::vector<double> curvature_sizing(const Mesh& mesh, const CurvatureSizingOptions& options) {
   const auto [h_min, h_max] = sizing_bounds(mesh, options);

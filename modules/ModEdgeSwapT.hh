@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Post-collapse edge swaps around the kept vertex (DESIGN.md step 5), as a Decimater module.
+// Post-collapse edge swaps around the kept vertex (docs/METHOD.md section 3, Coarsening: After
+// each collapse), as a Decimater module.
 #pragma once
 
 #include "DTHexTouched.hh"

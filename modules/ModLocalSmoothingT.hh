@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Post-collapse local smoothing of the kept vertex and the swapped neighbours (DESIGN.md
-// step 5), pulled back onto the input surface through a callback the app provides.
+// Post-collapse local smoothing of the kept vertex and the swapped neighbours (docs/METHOD.md
+// section 3, Coarsening: After each collapse), pulled back onto the input surface through a
+// callback the app provides.
 #pragma once
 
 #include "DTHexTouched.hh"

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// The DTHex priority module (DESIGN.md step 4): shortest normalized edge first, collapse
+// The DTHex priority module (docs/METHOD.md section 3, Coarsening: Normalized length and the
+// collapse test): shortest normalized edge first, collapse
 // B (= ci.v0, removed) into A (= ci.v1, kept) only while the edge is shorter than its size.
 #pragma once
 

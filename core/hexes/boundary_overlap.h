@@ -3,7 +3,8 @@
 // check_conformity() cannot see. A hex mesh whose boundary folds back into its own volume
 // (after projection onto a thin or sharply bent surface) has every face shared by at most two
 // hexes and a closed, oriented boundary, yet some of its volume is covered twice and a solver
-// sees overlapping elements. The referee (hexeval.py) probes for exactly this; so do we.
+// sees overlapping elements. The Verdict-based referee script (hexeval) probes for exactly
+// this; so do we (docs/METHOD.md section 8, Measurement and output).
 #pragma once
 
 #include <dthex/mesh/types.h>

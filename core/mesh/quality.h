@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Element quality as VTK's Verdict defines it, so our numbers agree with the referee
-// (shared/tools/hexeval.py) and with ParaView: the same formulas, the hex metrics within a few
+// Element quality as VTK's Verdict defines it, so our numbers agree with the Verdict-based
+// referee script (hexeval) and with ParaView: the same formulas, the hex metrics within a few
 // ulps (a frame's edge lengths come from one root of their squares' product, the shape's
 // cube root from inverse_cube_root.h; both were the smoother's bottleneck).
 #pragma once

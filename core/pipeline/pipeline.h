@@ -101,10 +101,10 @@ struct PipelineResult {
   }
 };
 
-//! THex's tets keep TetGen's radius-edge bound 1.2, as the paper's baseline and
-//! ../shared/notes/baselines.md run it. DTHex's coarse tets are diced, untangled and
-//! smoothed afterwards, and 1.5 lets TetGen put fewer points inside: on the bundled and
-//! shared meshes 4-28% fewer hex nodes, with every hex still above scaled Jacobian 0.2.
+//! THex's tets keep TetGen's radius-edge bound 1.2, as the paper's baseline runs it.
+//! DTHex's coarse tets are diced, untangled and smoothed afterwards, and 1.5 lets TetGen put
+//! fewer points inside, so fewer hex nodes (docs/METHOD.md section 4, Tetrahedralization and
+//! the tet clean-up).
 constexpr const char* kThexTetgenSwitches = "pq1.2Y";
 constexpr const char* kDTHexTetgenSwitches = "pq1.5Y";
 //! The switches a run uses: the given ones, else the method's default above.

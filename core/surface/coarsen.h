@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Curvature-driven coarsening of a closed triangle surface (DESIGN.md steps 2-5): the
-// DTHex Decimater modules driven by RevalidatingDecimaterT, with edge swaps, local
-// smoothing pulled back onto the input, and a self-intersection repair loop.
+// Curvature-driven coarsening of a closed triangle surface (docs/METHOD.md section 3,
+// Coarsening): the DTHex Decimater modules driven by RevalidatingDecimaterT, with edge swaps,
+// local smoothing pulled back onto the input, and a self-intersection repair loop.
 #pragma once
 
 #include <dthex/mesh/triangle_bvh.h>

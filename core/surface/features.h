@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Feature lines of a triangle surface (DESIGN.md step 2): edges whose two triangles'
-// normals differ by more than an angle, and the corners where feature lines end or meet.
+// Feature lines of a triangle surface (docs/METHOD.md section 3, Coarsening: Features): edges
+// whose two triangles' normals differ by more than an angle, and the corners where feature
+// lines end or meet.
 #pragma once
 
 #include <dthex/mesh/surface_mesh.h>

@@ -41,7 +41,7 @@ class NeedleRefiner {
       size_t splits = 0;
       for (FaceHandle f : workable_needles()) {
         if (report.vertices_added >= budget) break;
-        // An earlier split this round may have changed the face.
+        // An earlier split in this pass may have changed the face.
         if (m_.status(f).deleted()) continue;
         const EdgeHandle e = edge_to_split(f);
         if (!e.is_valid()) continue;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Every hex format is written, then read back by third-party readers (meshio; Python's
-// XML parser for FEBio) and by the referee hexeval.py, and compared with what we wrote.
+// XML parser for FEBio) and by the Verdict-based referee script (hexeval), and compared with
+// what we wrote.
 #include <dthex/hexes/mesh_sets.h>
 #include <dthex/io/write_hex_mesh.h>
 #include <dthex/mesh/quality.h>

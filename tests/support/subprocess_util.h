@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
-// Test helpers for everything that runs a process: the external referee (/usr/bin/python3
-// + meshio, hexeval.py), om_dthex itself (bounded by a timeout, stdout and stderr kept),
-// code in a forked child with a file-size limit, and scratch folders for their files.
+// Test helpers for everything that runs a process: the Verdict-based referee script
+// (hexeval, run by /usr/bin/python3 with meshio), om_dthex itself (bounded by a timeout,
+// stdout and stderr kept), code in a forked child with a file-size limit, and scratch folders
+// for their files.
 #pragma once
 
 #include <sys/resource.h>
