@@ -219,7 +219,7 @@ class NodeSmoother {
       if (q.scaled_jacobian < floor) return s;
       // Around an inverted hex the floor is negative, and a move that keeps the worst hex and
       // raises the clipped sum could otherwise trade a valid hex for an inverted one: move
-      // after move, nodes of a tangled region (skull_hollow) walked across the mesh.
+      // after move, nodes of a tangled region walked across the mesh.
       if (keep_valid) {
         const double now = sj_[size_t(hexes[k].cell)];
         if (now > 0 && q.scaled_jacobian < std::min(now, options_.target_scaled_jacobian)) return s;

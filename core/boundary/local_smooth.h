@@ -18,15 +18,11 @@ struct LocalSmoothOptions {
   //! every hex around it reaches it.
   double target_scaled_jacobian = 0.3;
   //! Hexes below the target are taken worst first from a queue; each at most this often.
-  //! 6 left vertebra_L1 and spot (coarsened judged after smoothing) at min scaled Jacobian
-  //! 0.19 and 0.16; 20 lifts both above 0.2, at most a few seconds more.
+  //! More attempts lift stubborn hexes further at the cost of a few seconds.
   int max_attempts_per_hex = 20;
   //! And all of them together at most max_attempts_per_hex times this fraction of the
   //! hexes (or times `attempt_budget_hexes`, if more): where most of the mesh is below the
-  //! target, one node at a time cannot lift it and the worst get the attempts. A 10 x 10 x
-  //! 0.2 plate of needle triangles had 93% of its 66,432 hexes below 0.3 and spent 45 s per
-  //! pass raising its minimum from 0.0024 to 0.0045; the bundled meshes have at most 1%
-  //! below (the femur 970 of 168,064).
+  //! target, one node at a time cannot lift it and the worst get the attempts.
   double attempt_budget_fraction = 0.05;
   size_t attempt_budget_hexes = 1000;
   //! Shape sweeps after the scaled-Jacobian sweeps: nodes of hexes whose shape is below
@@ -47,28 +43,24 @@ struct LocalSmoothOptions {
   //! Boundary nodes slide on the surface of the BVH (move in the tangent plane, then back
   //! onto the surface). A slide is refused if the surface normal where the node lands
   //! turns by more than this angle: feature edges and corners stay put. The default is the
-  //! feature angle the coarsening uses; a smaller one took the ordinary curvature of a
-  //! coarse organic surface (spot's ears) for features and pinned nodes there.
+  //! feature angle the coarsening uses; a smaller one takes the ordinary curvature of a
+  //! coarse organic surface for features and pins nodes there.
   bool move_boundary = true;
   double max_normal_turn_deg = kDefaultFeatureAngleDeg;
   //! Optional: the mesh's node_constraints(), if the caller has them. Its on_boundary is
   //! used (found here without it, or if it is not of the mesh's node count). Its on_feature
   //! nodes belong on a feature line: they are held on any crease they sit on; another node is
   //! held only on a convex crease and may slide off a concave one, where projection put it
-  //! by mistake. Without it every node on a crease stays: on the armadillo, boundary quads
-  //! then lay with three corners on one concave crease, and the smoother could not raise
-  //! them. Freeing every node that is not a coarse feature node took the fandisk's
-  //! Hausdorff distance from 0.62% to 1.06%: its convex CAD edges lost their nodes.
+  //! by mistake. Without it every node on a crease stays, and quads with three corners on
+  //! one concave crease cannot be raised.
   const NodeConstraints* constraints = nullptr;
   //! A node on a knife edge (features.h: a convex crease whose faces meet at less than 30
   //! degrees) may slide off it down its faces, but no node that starts within this distance
   //! of a knife edge (a fraction of the surface's bounding-box diagonal) leaves that zone: the
   //! edge is rounded off by at most this much. A hex corner in such a wedge is bounded by the
-  //! sine of its angle, and THex splits the wedge between two or more corners: held,
-  //! skull_hollow's 15-17 degree knife edge kept hexes at 0.087; free within 0.5%, at 0.115,
-  //! its Hausdorff distance unchanged (0.38%); a lens with a 24-degree rim, 0.094 -> 0.130.
-  //! 0 holds them like any crease. Unbounded (no zone), the nodes of a 16-degree wedge
-  //! of 8 triangles slid until it was cut off by 1.8% of its diagonal.
+  //! sine of its share of the angle, so sliding raises the worst hexes there at the cost of
+  //! a slightly rounded edge; 0 holds them like any crease (docs/METHOD.md section 6,
+  //! Fitting the boundary: Knife edges).
   double knife_edge_slide = 0.005;
   double time_limit_seconds = 120.0;
 };

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Step 9a of DTHex: put the boundary nodes of the diced hex mesh back on the input
-// (fine) surface, and carry the interior nodes along so that they do not stay behind.
+// docs/METHOD.md section 6 (Fitting the boundary), step 1: put the boundary nodes of the
+// diced hex mesh back on the input (fine) surface, and carry the interior nodes along so
+// that they do not stay behind.
 #pragma once
 
 #include <dthex/mesh/node_constraints.h>
@@ -24,21 +25,17 @@ struct ProjectOptions {
   double max_distance_factor = 1.0;
   //! Re-place the interior nodes by harmonic interpolation of the boundary displacement
   //! (a linear solve on the hex-edge graph). Without it the boundary moves alone and
-  //! concave parts invert; with it the referee measured far better shapes.
+  //! concave parts invert.
   bool move_interior = true;
   int interior_max_iterations = 2000;   //!< conjugate-gradient iterations
-  //! Relative residual. 1e-5 moves no femur node by more than 2e-5 edge lengths from the
-  //! 1e-12 solution. 1e-3 (56 iterations on the femur against 100) gave the bundled meshes
-  //! the same shapes, but the armadillo entered the untangler with one more inverted hex
-  //! and ended at min scaled Jacobian 0.077 instead of 0.121.
+  //! Relative residual of the solve. Looser is faster but can hand the untangler more
+  //! inverted hexes; tighter changes the nodes by a negligible fraction of an edge.
   double interior_tolerance = 1e-5;
   //! Before the interior moves: rounds of boundary relaxation on the fine surface (see
   //! relax_boundary_nodes(); 0 = none). The feature nodes of `constraints` (the coarse
-  //! surface's feature lines) stay where projection put them. 3 rounds took the armadillo
-  //! from min scaled Jacobian 0.154 to 0.169 and the aneurysm from 0.234 to 0.262; the
-  //! fandisk's Hausdorff distance rose from 0.64% to 0.80% of its diagonal. Average shapes
-  //! rise a little with more rounds, but the single worst hex moves either way (armadillo
-  //! 0.152 after 1 round, 0.144 after 5; aneurysm 0.241 and 0.282).
+  //! surface's feature lines) stay where projection put them. More rounds raise the worst
+  //! hexes where projection bunched nodes, at the cost of a slightly larger distance to
+  //! sharp CAD edges.
   int relax_rounds = 3;
   //! Optional: the mesh's node_constraints() (before projection), if the caller has them: its
   //! feature nodes are held and its boundary quads used by the relaxation. Without them no

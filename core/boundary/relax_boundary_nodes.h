@@ -3,11 +3,10 @@
 // toward the mean of their boundary neighbours. Projection takes each node to its own
 // closest point, and where the input bends away from a coarse facet (a pit, a fold) the
 // nodes of that facet bunch up on one side; the hexes there are flat before the untangler
-// starts, and no later one-node move lifts them (the armadillo's worst hexes). The nodes on
-// the coarse surface's feature lines and on convex creases of the input stay, so sharp
-// edges keep their nodes; where the coarse surface has no feature line along an input
-// crease, the nodes beside it still move (the fandisk's Hausdorff distance rose from 0.64%
-// to 0.80%: its quads cut a few edges a little deeper).
+// starts, and no later one-node move lifts them. The nodes on the coarse surface's feature
+// lines and on convex creases of the input stay, so sharp edges keep their nodes; where the
+// coarse surface has no feature line along an input crease, the nodes beside it still move,
+// so its quads may cut such an edge a little deeper.
 #pragma once
 
 #include <dthex/mesh/node_constraints.h>

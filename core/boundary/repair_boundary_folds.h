@@ -2,18 +2,17 @@
 // After smoothing: take out the folds of the boundary into the mesh's own volume
 // (boundary_overlap.h). Projection puts each boundary node on the input surface by itself,
 // and where that surface turns much faster than the coarse facet over it, the quads of one
-// facet no longer lie side by side there: on the armadillo a facet facing -z lands on a
-// crease whose surface faces -y (69 degrees off), and at the shared boundary edge of two
-// face-neighbour hexes their boundary quads fold over each other; at a coarse vertex where
-// two facets meet 60 degrees apart a tiny quad ends up turned over, its probe inside its own
-// hex. On Spot sized by thickness, the quads of two coarse facets land on the same underside
-// of the 0.04-thick upper lip, which the boundary then covers twice. Every hex stays valid,
-// so neither the untangler nor the smoother, which see one hex at a time, can notice (on
-// Spot: 47 folded quads after projection, 18 after untangling, 17 after smoothing). Here the
-// nodes around each fold move (boundary nodes sliding on the input surface, and where that
-// is not enough leaving it by a bounded distance; interior nodes freely) to push each folded quad's probe point out of the hex that holds it and to turn
+// facet no longer lie side by side there: where a facet lands on a crease facing well away
+// from it, the boundary quads of two face-neighbour hexes fold over each other at their
+// shared edge; at a coarse vertex where two facets meet at a wide angle a tiny quad ends up
+// turned over, its probe inside its own hex; on a flap thinner than a hex, the quads of two
+// coarse facets land on the same side of it, which the boundary then covers twice. Every
+// hex stays valid, so neither the untangler nor the smoother, which see one hex at a time,
+// can notice. Here the nodes around each fold move (boundary nodes sliding on the input
+// surface, and where that is not enough leaving it by a bounded distance; interior nodes
+// freely) to push each folded quad's probe point out of the hex that holds it and to turn
 // turned-over quads back, never letting a hex fall below a scaled-Jacobian floor. Meshes
-// without folds are not touched.
+// without folds are not touched (docs/METHOD.md section 6, Fitting the boundary, step 7).
 #pragma once
 
 #include <dthex/hexes/boundary_overlap.h>

@@ -66,9 +66,8 @@ RepairWorstHexesReport repair_worst_hexes(HexMesh& mesh, const TriangleBvh& surf
   // The slides hold the creases: a node on a convex crease line or a corner of the surface
   // stays, and on a concave line a node of the coarse surface's feature lines (another one
   // got there by accident of projection, as in the local smoother). Free, the nodes of a
-  // 16-degree knife edge slid down its faces and cut it off (Hausdorff 27% of the
-  // bounding-box diagonal); made to slide along the crease line instead, skull_hollow's
-  // ended with a lower minimum (0.062 against 0.088) and was undone.
+  // sharp knife edge slide down its faces and cut it off; made to slide along the crease
+  // line instead, they end with a lower minimum.
   const std::vector<Vec3> normals = unit_triangle_normals(surface.points(), surface.triangles());
   const double min_cos = std::cos(options.max_normal_turn_deg * M_PI / 180.0);
   const double radius = 1e-7 * surface.bounds().diagonal().norm();

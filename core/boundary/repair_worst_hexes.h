@@ -7,9 +7,7 @@
 // sliding on the input surface (creases and corners hold); its result has a lower minimum
 // (the energy evens out the region, it does not maximize the worst corner) but lies in a
 // different basin, from which the smoother's scaled-Jacobian pass then reaches further.
-// The armadillo: 2 hexes below 0.2 at a sharp detail, minimum 0.169, then none, minimum
-// 0.204. skull_hollow's 15-17 degree knife edge: 133 below 0.2, then 40, the minimum
-// unchanged (0.088). A round that ends worse (a lower minimum, more inverted hexes) is undone.
+// A round that ends worse (a lower minimum, more inverted hexes) is undone.
 #pragma once
 
 #include <dthex/boundary/local_smooth.h>
@@ -27,22 +25,19 @@ struct RepairWorstHexesOptions {
   double threshold = 0.2;
   //! Nor is a mesh with more than this fraction of its hexes below it, and more than
   //! `always_repaired` (a small mesh has a large fraction): the regions around them then
-  //! cover the mesh, and a global solve is what the untangler already ran. A 10 x 10 x 0.2
-  //! plate of needle triangles had 65% of its 66,432 hexes below 0.2 and the repair ran
-  //! 466 s to lift 4% of them. The meshes it helps have few: skull_hollow 133 (0.04%), the
-  //! armadillo 2.
+  //! cover the mesh, and a global solve is what the untangler already ran; the repair
+  //! would spend long minutes for little gain.
   double max_below_fraction = 0.01;
   size_t always_repaired = 500;
   //! Hex rings around them whose nodes the region solve moves.
   int region_rings = 2;
   //! Passes of the region solve with the boundary nodes sliding on the surface (after one
-  //! with the boundary fixed). One: on skull_hollow three passes ended where one did, and
-  //! none (the boundary fixed) left 88 hexes below 0.2 where one left none (both measured
-  //! with the crease nodes free).
+  //! with the boundary fixed). Sliding frees hexes the fixed boundary pins; further passes
+  //! tend to end where the first did.
   int sliding_passes = 1;
   //! Rounds of region solve and smoothing, while each gains (fewer hexes below the
-  //! threshold, or a higher minimum) without lowering the minimum. skull_hollow: 133 -> 40
-  //! hexes below 0.2 in the first, the second left 46 and was undone.
+  //! threshold, or a higher minimum) without lowering the minimum; a round that does not
+  //! gain is undone and ends the repair.
   int rounds = 3;
   //! The scaled Jacobian the smoother then raises hexes towards (LocalSmoothOptions).
   double target_scaled_jacobian = 0.3;

@@ -128,8 +128,8 @@ class Untangler {
     pos_ = mesh_.nodes;
     base_ = mesh_.nodes;
     // Where the regularized energy cannot untangle, it lowers itself by flattening hexes
-    // instead: on skull_hollow (before the tet-edge flips) the untangler handed on 3,077
-    // inverted hexes where 2,313 came in. A run that ends worse than it began is undone.
+    // instead, and can hand on more inverted hexes than came in. A run that ends worse than
+    // it began is undone.
     const std::vector<Vec3> given = mesh_.nodes;
     tangent1_.assign(n_nodes, Vec3::Zero());
     tangent2_.assign(n_nodes, Vec3::Zero());
@@ -159,8 +159,8 @@ class Untangler {
     const int fixed_rounds = options_.slide_boundary ? options_.fixed_boundary_rounds : options_.max_rounds;
     // The interior-only repair gives up on a part whose worst frame cannot become valid in
     // the rounds left at its present pace: the sliding repair that follows undoes such a
-    // fold in a few rounds, where the fixed boundary spent all its rounds on the femur's
-    // three hopeless parts (a fifth of the untangler's time) and still left them inverted.
+    // fold in a few rounds, where the fixed boundary would spend all its rounds on hopeless
+    // parts and still leave them inverted.
     give_up_hopeless_ = options_.slide_boundary;
     repair(kInvertedBelow, false, fixed_rounds);
     give_up_hopeless_ = false;

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Step 9b of DTHex: after projection, remove every inverted hex corner and improve shape.
+// docs/METHOD.md section 6 (Fitting the boundary), step 4: after projection, remove every
+// inverted hex corner and improve shape.
 // Energy: Garanzha et al. 2021, "Foldover-free maps in 50 lines of code", over the 8 corner
 // Jacobians and the centre Jacobian of each hex (the nine places Verdict's scaled Jacobian
 // looks at), each normalized by the hex's own edge length. Its regularized determinant
@@ -29,16 +30,16 @@ struct UntangleOptions {
   //! The shape pass: rounds and L-BFGS iterations per round (0 iterations skips it). Once
   //! nothing is inverted it is a barrier: it never re-inverts. The local smoother's shape
   //! sweeps that follow in the pipeline raise the average further for less time, so the
-  //! pass is kept short: 10 iterations instead of 30 halved this stage on the bundled
-  //! meshes and cost 0.002-0.004 of the final average shape (2026-12-01).
+  //! pass is kept short: more iterations buy a slightly higher average shape for much more
+  //! time.
   int smoothing_rounds = 1;
   int smoothing_iterations = 10;
   //! It moves the interior nodes of hexes whose shape is below this and of the hexes within
   //! `smoothing_rings` rings of them (threshold 1 or more: every interior node), in pieces of
   //! at most `smoothing_part_nodes` nodes grown breadth-first; pieces that share no hex are
-  //! solved at the same time on all cores, neighbours one after the other. Over the whole mesh at once one near-flat frame limited every step (60
-  //! iterations took the liver's average shape from 0.615 to 0.638, 5 s); in pieces of 500
-  //! nodes around the hexes below 0.4, 30 iterations reach 0.669 in a quarter of the time.
+  //! solved at the same time on all cores, neighbours one after the other. Over the whole
+  //! mesh at once one near-flat frame limits every step; small pieces converge further in
+  //! less time.
   double smoothing_shape_threshold = 0.4;
   int smoothing_rings = 1;
   int smoothing_part_nodes = 500;
@@ -55,9 +56,8 @@ struct UntangleOptions {
   //! `to`; refused, it goes back. Called concurrently: must not write.
   std::function<bool(size_t node, const Vec3& from, const Vec3& to)> may_land;
   //! Rounds of the first, interior-only repair when the boundary may slide afterwards.
-  //! Fewer rounds save time where the fixed boundary cannot undo an inversion (6 took a
-  //! sixth off the spot's untangling) but leave more to the sliding repair, which cost
-  //! the spot's final minimum scaled Jacobian (0.119 instead of 0.191).
+  //! Fewer rounds save time where the fixed boundary cannot undo an inversion but leave more
+  //! to the sliding repair, which lowers the final minimum scaled Jacobian.
   int fixed_boundary_rounds = 20;
   //! Optional: the mesh's node_constraints(), if the caller has them; its on_boundary is
   //! used (found here without it, or if it is not of the mesh's node count).
