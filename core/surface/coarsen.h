@@ -26,31 +26,27 @@ struct CoarsenOptions {
   bool edge_swap = true, local_smoothing = true, global_smoothing = false;
   //! Judge a collapse that fails the bounds with the kept vertex in place again with it where
   //! the post-collapse local smoothing puts it (ModNormalizedLengthT::set_placement; needs
-  //! local_smoothing). Reaches the sizes: the paper's sphere at eps 0.1 stops at 14 vertices
-  //! instead of 20, and the bundled organs get ~25-35% fewer coarse triangles. Off, the
-  //! bounds are judged on the intermediate mesh, as the paper prints them.
+  //! local_smoothing). Reaches the sizes with fewer coarse triangles; off, the bounds are
+  //! judged on the intermediate mesh, as the paper prints them (docs/METHOD.md section 9).
   bool judge_after_smoothing = true;
   //! No collapse may leave a triangle facing more than this (degrees) away from the input
   //! surface under its centroid, and further than before (180: no such check). Without it,
-  //! judged after smoothing, spot's coarse surface folded where the head narrows (one
-  //! triangle 116 degrees off) and the hexes there stayed inverted after projection.
+  //! judged after smoothing, a coarse surface can fold where the shape narrows, and the hexes
+  //! there stay inverted after projection.
   double max_surface_deviation_deg = 60.0;
   //! If > 0, the size is at most this many times the wall thickness (never below h_min; see
-  //! core/wall_thickness.h). Curvature sizes a thin wall by its large radius: at 1 the
-  //! shared pelvis ends with min scaled Jacobian 0.25 instead of 0.05 and skull_hollow
-  //! 0.45% off the input instead of 1.0%. Off by default: at 1 spot's coarse surface (24
-  //! vertices capped) keeps a triangle 79 degrees off the input instead of 65, and its hex
-  //! boundary then folds into the mesh (the referee finds 17 boundary faces inside it).
+  //! core/surface/wall_thickness.h). Curvature sizes a thin wall by its large radius, so its
+  //! hexes come out flat; off by default, because capping can fold the hex boundary of a
+  //! flap thinner than a hex (docs/METHOD.md section 7, Thin walls).
   double max_size_per_thickness = 0;
   //! Self-intersections found in the result are repaired by re-running with the sizing
   //! halved around them (the last extra run keeps the input vertices there instead); at
   //! most this many extra runs.
   int max_repair_rounds = 4;
   //! Inputs with at least this many vertices are decimated in two halves at once, one per
-  //! core (core/split_in_halves.h), then joined and decimated once more to remove the cut;
-  //! 0 never splits. The result differs from one run over the whole (another greedy order)
-  //! but not in kind. From 4,000 vertices up it saved a fifth to a third of the time on
-  //! every mesh tried (vertebra, heart, pelvis, aneurysm, armadillo, femur: 1.3 -> 0.84 s).
+  //! core (core/surface/split_in_halves.h), then joined and decimated once more to remove the
+  //! cut; 0 never splits. The result differs from one run over the whole (another greedy
+  //! order) but not in kind; smaller inputs gain too little time to be worth the cut.
   size_t split_from_vertices = 4000;
   //! Called with a rough completed fraction in [0, 1].
   std::function<void(double)> progress;
@@ -75,8 +71,8 @@ struct CoarsenResult {
 
 //! Coarsens a verified closed surface. Throws MeshingError if the result still
 //! self-intersects after max_repair_rounds (it never returns an intersecting surface).
-//! `input_bvh`, when given, is a tree over `input` the caller already has (building one
-//! for a million triangles takes half a second).
+//! `input_bvh`, when given, is a tree over `input` the caller already has, so that it is not
+//! built again.
 CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options = {},
                       const TriangleBvh* input_bvh = nullptr);
 
@@ -96,15 +92,15 @@ struct GlobalSmoothingOptions {
 size_t global_smoothing(TriSurface& coarse, const TriSurface& input, const GlobalSmoothingOptions& options = {},
                         std::vector<double>* sizes = nullptr, const std::vector<double>* input_sizes = nullptr);
 
-//! Pairs (a < b) of triangles that intersect other than in shared vertices/edges
-//! (non-coplanar crossings, and folded triangles on a shared edge).
 //! The input vertices on a wall thinner than their curvature size (at `options`' eps and
 //! size bounds) over options.max_size_per_thickness, or over 1 when that is off: what the
 //! option would change. Measured apart from coarsen(), which only measures when the option
-//! is on: on the femur it costs a third of the coarsening, so a run measures it only to
-//! explain poor hexes.
+//! is on: it costs a large share of the coarsening, so a run measures it only to explain
+//! poor hexes.
 size_t count_thin_wall_vertices(const TriSurface& input, const CoarsenOptions& options);
 
+//! Pairs (a < b) of triangles that intersect other than in shared vertices/edges
+//! (non-coplanar crossings, and folded triangles on a shared edge).
 std::vector<std::array<int, 2>> self_intersections(const TriSurface& surface);
 
 }  // namespace dthex

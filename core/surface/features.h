@@ -31,10 +31,9 @@ struct Features {
 constexpr double kFinNeedleAngleDeg = 10.0;
 
 //! A fin: a needle whose normal turns by more than `angle_deg` from each of its three edge
-//! neighbours. Segmentation leaves them (skull_hollow has 4, 0.8-5 degrees, turned 63-122
-//! degrees from every neighbour; the armadillo 1), and a needle's normal rests on its tiny
-//! width. Taken as a feature, a fin's tip is a corner the mesh must hold and the 5-degree
-//! angle goes into a boundary quad: a hex there reaches at most sin 5 = 0.09. Fins are
+//! neighbours. Segmentation leaves them, and a needle's normal rests on its tiny width.
+//! Taken as a feature, a fin's tip is a corner the mesh must hold and its few-degree angle
+//! goes into a boundary quad: a hex there reaches at most the sine of that angle. Fins are
 //! therefore no features, and crease tests ignore them.
 bool is_fin(const std::array<Vec3, 3>& corners, const Vec3& unit_normal, const std::array<Vec3, 3>& neighbour_normals,
             double angle_deg = kDefaultFeatureAngleDeg);
@@ -78,8 +77,8 @@ enum class CreaseKind { none, convex_line, concave_line, corner };
 CreaseKind crease_at(const TriangleBvh& surface, const std::vector<Vec3>& normals, const Vec3& x, const Vec3& normal,
                      double radius, double min_cos, Vec3& direction, double* faces_cos = nullptr);
 
-//! A knife edge: a convex crease whose two faces meet at less than this inside (degrees).
-//! skull_hollow's cut plane meets its outer surface at 15-17 degrees.
+//! A knife edge: a convex crease whose two faces meet at less than this inside (degrees),
+//! as where a cut plane grazes the outer surface.
 constexpr double kKnifeEdgeAngleDeg = 30.0;
 
 //! Does the surface have a knife edge: two neighbouring triangles whose normals (from

@@ -3,7 +3,7 @@
 // whose flat faces are long strips between feature lines) gives the coarsening nothing to
 // work with. Its collapses move vertices along the existing edges, so the strips stay
 // strips, every needle of the coarse surface becomes a sliver tet, and its hexes cannot be
-// made valid (a 20 x 0.5 x 0.5 rod of 2.5 x 0.06 needles ended with 81 inverted hexes).
+// made valid.
 // Such an input is remeshed first with even triangles of one edge length: Botsch and Kobbelt,
 // "A remeshing approach to multiresolution modeling" (SGP 2004): split long edges, collapse
 // short ones, flip towards valence 6, relax each vertex in its tangent plane, and put it
@@ -32,9 +32,9 @@ struct RemeshIsotropicReport {
   size_t triangles_before = 0, triangles_after = 0;
   double edge_length = 0;
   double min_angle_before_deg = 0, min_angle_after_deg = 0;  //!< smallest triangle angle
-  //! The mesh grew past 16 times the triangles the length asks for, plus twice the input's (a
-  //! rod of needles peaks at 6 times in its early rounds):
-  //! the remeshing stopped and returned the input unchanged.
+  //! The mesh grew past 16 times the triangles the length asks for, plus twice the input's
+  //! (well above the peak of a needle input's early rounds): the remeshing stopped and
+  //! returned the input unchanged.
   bool gave_up = false;
 };
 
@@ -43,18 +43,17 @@ struct RemeshIsotropicReport {
 double needle_share(const TriSurface& surface);
 
 //! Needles of at least this share (one triangle in 200) call for remeshing at --remesh auto:
-//! each needle left in the coarse surface is the face of a sliver tet. CAD exports are mostly
-//! needles (the plate and rod of the README: 67%); of the shared scans, 11 have none or
-//! nearly none (at most 0.04%, the armadillo's 20), and skull_hollow has 0.78% (196, the fans
-//! that close its cut plane and its fins), where remeshing lifted its worst hexes.
+//! each needle left in the coarse surface is the face of a sliver tet. CAD exports of rods
+//! and plates are mostly needles, scans have none or nearly none unless fans closed their
+//! holes (docs/METHOD.md section 2, Reading and verifying the input).
 constexpr double kRemeshNeedleShare = 0.005;
 
 //! The automatic edge length: that of an equilateral triangle of the input's mean area (the
 //! remeshed surface has about as many triangles as the input), but no more than the inner-ball
 //! radius (half the wall thickness) at the thinner 5% of the vertices, so that the coarsening,
 //! which cannot refine, can still size thin walls by their thickness; and no less than keeps
-//! the result within `max_triangles`. 0 = automatic: 100 times the input's triangles (the
-//! README's plate needs 45), at least 1,000 and at most 400,000, so that a spike, whose tip
+//! the result within `max_triangles`. 0 = automatic: 100 times the input's triangles, at
+//! least 1,000 and at most 400,000, so that a spike, whose tip
 //! has no thickness, does not turn a few triangles into hundreds of thousands.
 //! `surface_bvh`, when given, is a tree over `surface` the caller already has.
 double remesh_edge_length(const TriSurface& surface, size_t max_triangles = 0,

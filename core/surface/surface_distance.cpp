@@ -92,8 +92,8 @@ SurfaceDistance surface_distance(const TriSurface& a, const TriangleBvh& a_bvh, 
 }
 
 double enclosed_volume(const TriSurface& s) {
-  // Tets from the bounding box's centre, not from the origin: a liver placed at 1e6 (scanner
-  // coordinates) summed to -646 for a volume of 1.15 about the origin.
+  // Tets from the bounding box's centre, not from the origin: far from the origin (scanner
+  // coordinates) the sum about the origin cancels catastrophically.
   Eigen::AlignedBox3d bounds;
   for (const Vec3& p : s.points) bounds.extend(p);
   const Vec3 origin = s.points.empty() ? Vec3::Zero() : Vec3(bounds.center());

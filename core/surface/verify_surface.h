@@ -20,7 +20,7 @@ struct VerifyOptions {
   bool check_self_intersections = true;
   //! Optional: receives the self-intersection check's search tree when it still fits the
   //! verified surface (no component flipped, no vertex removed), so that a caller who needs
-  //! one does not build it again (0.9 s at 1.2M triangles); left empty otherwise.
+  //! one does not build it again; left empty otherwise.
   std::unique_ptr<TriangleBvh>* search_tree = nullptr;
 };
 

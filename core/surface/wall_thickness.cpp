@@ -40,7 +40,7 @@ std::vector<double> inner_wall_radii(const TriSurface& surface, const TriangleBv
     const auto opposite = [&](int t) { return triangle_normal[size_t(t)].dot(outward) < opposite_cos; };
     for (int step = 0; step < options.max_steps; ++step) {
       // Only a point inside the ball matters: the search stays within it (the nearest
-      // opposite triangle can be across the whole model, and finding it cost 10 s on the femur).
+      // opposite triangle can be across the whole model, and finding it is slow).
       const TriangleBvh::ClosestPoint cp = bvh.closest_point_within(p + r * inward, r * (1 - 1e-9), opposite);
       if (cp.triangle < 0) break;  // the ball is empty
       // The ball tangent at p through the point found: |p + s m - q| = s.
