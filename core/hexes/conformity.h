@@ -55,7 +55,7 @@ std::vector<std::array<int, 4>> boundary_quads(const HexMesh& mesh, std::vector<
 
 //! Per node: 1 if it lies on a boundary quad or carries a boundary facet, the nodes that the
 //! untangler and the smoothers keep on the surface. They depend on the topology only, so a
-//! pipeline computes them once and hands them to each (on a 1.5M-hex mesh 0.5-0.8 s a time).
+//! pipeline computes them once and hands them to each (finding them on a big mesh is costly).
 //! With `known` (such a vector computed earlier for the same topology): a copy of it, unless
 //! its size is not the mesh's node count, in which case they are found again.
 std::vector<char> boundary_nodes(const HexMesh& mesh, const std::vector<char>* known = nullptr);

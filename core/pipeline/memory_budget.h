@@ -18,10 +18,9 @@ uint64_t available_memory_bytes();
 uint64_t virtual_size_bytes();
 
 //! Rough peak memory of the whole pipeline per input triangle (verification, BVH,
-//! coarsening's OpenMesh copy and queues, projection). Peaks measured with build/benchmark
-//! (2026-11-29): 4.2 KB per triangle on the 72,868-triangle femur (the hex mesh dominates),
-//! 0.53 KB on the same femur subdivided to 1.17M triangles (the input dominates). 512 is
-//! below both, so only inputs that surely cannot fit are refused.
+//! coarsening's OpenMesh copy and queues, projection). It is set below the measured peaks,
+//! small inputs (where the hex mesh dominates) and large ones (where the input dominates)
+//! alike, so only inputs that surely cannot fit are refused.
 constexpr uint64_t kPipelineBytesPerInputTriangle = 512;
 
 //! Throws InputError "<name>: <what> needs about X GB of memory, but only Y GB are

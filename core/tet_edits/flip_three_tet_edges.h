@@ -4,7 +4,7 @@
 // the worst of the three. One tet fewer is about 32 fewer nodes after THex and dice 2 (an
 // edge, two faces and a tet less), and the flip is taken only where it does not lower the
 // local worst shape. TetGen's own flips judge dihedral angles, not this shape, and leave
-// many such edges (about a hundred on the coarse bundled vertebra). The flips keep the rule of
+// many such edges. The flips keep the rule of
 // split_surface_tets: the new face is never one of three boundary vertices.
 #pragma once
 

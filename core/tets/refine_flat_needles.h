@@ -2,10 +2,10 @@
 // Before TetGen: a flat region of the coarse surface whose vertices all lie on its outline
 // keeps needle triangles that no collapse can remove, because there is no inner vertex to
 // move. Cut planes closed by a fan of triangles are common in segmented scans: the bone or
-// skull leaves the field of view, and hole filling closes it without inner points (the
-// shared skull_hollow's cut face has 166 vertices, all on its rim, and needles down to 0.4
-// degrees). TetGen keeps the surface (Y), so every needle becomes the face of a sliver tet,
-// and THex and dicing turn it into hexes that no untangler makes good. Such needles are
+// skull leaves the field of view, and hole filling closes it without inner points, with
+// needles down to a fraction of a degree. TetGen keeps the surface (Y), so every needle
+// becomes the face of a sliver tet, and THex and dicing turn it into hexes that no
+// untangler makes good. Such needles are
 // refined here, within their plane: the longest edge of a needle is split at its midpoint
 // (the midpoint lies in the plane, so the surface does not change), flips within the plane
 // restore the Delaunay property, and each new vertex moves to the mean of its neighbours in

@@ -27,15 +27,14 @@ struct RelaxInteriorPointsOptions {
   int max_trials = 60;
   //! The first relaxation moves the interior points whose worst tet is below this shape. A
   //! point whose tets are all better is left as it is: its hexes are fine, and moving it
-  //! gains the average a little but changes what the hex smoother meets, which on Spot cost
-  //! 0.007 of its min scaled Jacobian. (Only the skull among the shared meshes has tets below
-  //! 0.1 at the defaults or with --thickness-ratio 1.)
+  //! gains the average a little but changes what the hex smoother meets, which can lower the
+  //! final minimum scaled Jacobian.
   double relax_below = 0.1;
   //! After the first relaxation (which lowers the sum of the inverse tet shapes around each
   //! point, its worst tet never falling), the points whose worst tet is still below this are
   //! moved again to raise that worst tet alone. The first keeps the average shape (a pure
-  //! max-min trades it away: on the skull, all points relaxed so, the average tet shape fell
-  //! from 0.70 to 0.68); the second gets the worst further. 0: no second relaxation.
+  //! max-min over all points trades it away); the second gets the worst further. 0: no
+  //! second relaxation.
   double max_min_below = 0.1;
 };
 

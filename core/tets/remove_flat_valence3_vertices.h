@@ -4,8 +4,7 @@
 // triangles become one. TetGen (Y keeps the surface) must mesh such a vertex with one tet
 // that has the three triangles as faces, a sliver when the cap is flat; after the split the
 // hexes at that vertex have three faces on a surface that is nearly a plane there, and no
-// untangler makes them good (the shared aneurysm's coarse surface had one, cap shape 0.001,
-// and ended with scaled Jacobian 0.18 there). A sharp three-triangle corner is kept.
+// untangler makes them good. A sharp three-triangle corner is kept.
 #pragma once
 
 #include <dthex/mesh/types.h>
