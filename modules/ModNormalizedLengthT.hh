@@ -66,9 +66,9 @@ class ModNormalizedLengthT : public OpenMesh::Decimater::ModBaseT<MeshT> {
   //! Optional. A collapse is also illegal when a triangle it changes would face more than
   //! `max_deg` away from the input surface at the triangle's centroid, and further than it
   //! did before. The per-collapse normal bound compares a triangle with its previous self
-  //! only, so turns can add up over many collapses; judged after smoothing, spot's coarse
-  //! surface ended with a triangle 116 degrees off the input where the head narrows, and
-  //! the hexes there stayed inverted after projection.
+  //! only, so turns can add up over many collapses; judged after smoothing, a coarse surface
+  //! can end with a triangle facing away from the input where the shape narrows, and the
+  //! hexes there stay inverted after projection.
   void set_surface_normal(SurfaceNormal surface_normal, double max_deg) {
     surface_normal_ = std::move(surface_normal);
     cos_surface_bound_ = std::cos(deg_to_rad(max_deg));
