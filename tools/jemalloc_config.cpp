@@ -4,10 +4,9 @@
 // The meshing stages allocate and free tens of megabytes at a time (sorted face lists, hex
 // arrays, solver vectors). glibc's malloc hands such blocks back to the kernel when they are
 // freed and gets fresh ones for the next, and every 4 KB page of fresh memory is a page
-// fault; on the 2-core VM we measure on a fault costs about 10 microseconds, so the femur's
-// run spent a tenth of its time in them. jemalloc keeps freed memory for reuse, and with
-// "thp:always" backs its blocks with 2 MB transparent huge pages (where the kernel allows
-// them), 512 times fewer faults.
+// fault, which adds up to a noticeable share of a run. jemalloc keeps freed memory for
+// reuse, and with "thp:always" backs its blocks with 2 MB transparent huge pages (where the
+// kernel allows them), 512 times fewer faults.
 //
 // One arena for all threads ("narenas:1"): with an arena per thread, a thread that could not
 // get memory for its new arena (under ulimit -v) crashed inside jemalloc instead of failing the
