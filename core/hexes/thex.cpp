@@ -37,7 +37,7 @@ int first_vertex(const Face& face) { return face[0]; }
 
 //! Assigns consecutive ids to equal keys, in key order: ids[slot] for each (key, slot)
 //! entry. A counting sort on the smallest vertex id first leaves only the short runs
-//! around one vertex to sort, about three times faster than sorting everything.
+//! around one vertex to sort, much faster than sorting everything.
 template <class Key>
 std::vector<Key> number_unique(std::vector<std::pair<Key, int>>& entries, size_t n_points, std::vector<int>& ids) {
   std::vector<size_t> start(n_points + 1, 0);

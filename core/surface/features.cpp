@@ -49,7 +49,7 @@ std::unordered_map<uint64_t, EdgeUse> edge_uses(const std::vector<std::array<int
 
 //! Per triangle, the triangle across each of its edges (edge k joins corners k and k + 1); -1
 //! on a border or a non-manifold edge. Through each vertex's triangles: no hash map, which
-//! took a second on a million triangles.
+//! is slow on large inputs.
 std::vector<std::array<int, 3>> triangle_neighbours(const std::vector<std::array<int, 3>>& triangles) {
   int n_points = 0;
   for (const auto& t : triangles) n_points = std::max({n_points, t[0] + 1, t[1] + 1, t[2] + 1});
