@@ -158,8 +158,8 @@ TEST(RemeshIsotropic, PipelineRemeshesANeedleRodAndMeshesItWell) {
 TEST(RemeshIsotropic, PipelineKeepsASpikeThatRemeshingWouldMakeWorse) {
   // A tet 1024 long on a unit corner (a fuzzer's find): 3 of its 4 triangles are needles, but
   // its feature lines meet at 0.056 degrees at the tip, where no even triangles fit. Remeshed
-  // at the tip's thickness it became 164k triangles and coarsening them took 117 s; now the
-  // remeshing is bounded (100 times the input's triangles, at least 1,000) and a result with
+  // at the tip's thickness it would become so many triangles that coarsening them takes
+  // minutes; the remeshing is bounded (100 times the input's triangles, at least 1,000) and a result with
   // a smaller smallest angle (or one that fails verification, or that only grows) is not used.
   TriSurface spike;
   spike.points = {Vec3(0, 0, 0), Vec3(-1024, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
