@@ -10,7 +10,7 @@
 namespace dthex {
 
 //! A FILE* whose open, formatted writes, raw writes, flush and close all throw
-//! OutputError (core/atomic_file.h) on failure. Errors name the target path, not the temporary one.
+//! OutputError (core/io/atomic_file.h) on failure. Errors name the target path, not the temporary one.
 class OutputFile {
  public:
   OutputFile(const std::string& temporary_path, const std::string& target_path);

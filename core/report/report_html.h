@@ -11,7 +11,7 @@
 namespace dthex {
 
 //! Most faces embedded per 3D layer, so the page stays a few MB and the viewer
-//! interactive. A bigger layer is reduced by vertex clustering (core/cluster_surface.h)
+//! interactive. A bigger layer is reduced by vertex clustering (core/report/cluster_surface.h)
 //! to at most this many triangles: closed, no holes, every poor hex face unchanged.
 constexpr size_t kReportMaxFacesPerLayer = 150000;
 
