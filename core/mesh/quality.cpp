@@ -225,14 +225,38 @@ QualityStats summarize(const std::vector<double>& values) {
   return s;
 }
 
+double hex_gauss_scaled_jacobian(const std::array<Vec3, 8>& x) {
+  // VTK's corner signs in (xi, eta, zeta).
+  static constexpr int sign[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                                     {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+  const double g = 1.0 / std::sqrt(3.0);
+  double worst = 1.0;
+  for (const auto& p : sign) {
+    const double xi = g * p[0], eta = g * p[1], zeta = g * p[2];
+    Vec3 d[3] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+    for (int i = 0; i < 8; ++i) {
+      const double a = 1 + xi * sign[i][0], b = 1 + eta * sign[i][1], c = 1 + zeta * sign[i][2];
+      d[0] += (sign[i][0] * b * c / 8.0) * x[size_t(i)];
+      d[1] += (sign[i][1] * a * c / 8.0) * x[size_t(i)];
+      d[2] += (sign[i][2] * a * b / 8.0) * x[size_t(i)];
+    }
+    const double lengths = d[0].norm() * d[1].norm() * d[2].norm();
+    if (!(lengths > 0)) return 0.0;
+    worst = std::min(worst, d[0].dot(d[1].cross(d[2])) / lengths);
+  }
+  return worst;
+}
+
 HexQuality measure_hex_quality(const HexMesh& mesh) {
   HexQuality q;
   const size_t n = mesh.hexes.size();
   q.shape.resize(n);
   q.scaled_jacobian.resize(n);
-  size_t inverted = 0, below_0_2 = 0;
+  size_t inverted = 0, below_0_2 = 0, gauss_inverted = 0;
+  double gauss_min = n > 0 ? 1.0 : 0.0;
   // Every hex on its own: split over the cores once there are enough to pay for the threads.
-#pragma omp parallel for schedule(static) reduction(+ : inverted, below_0_2) if (n > 50000)
+#pragma omp parallel for schedule(static) reduction(+ : inverted, below_0_2, gauss_inverted) \
+    reduction(min : gauss_min) if (n > 50000)
   for (long h = 0; h < long(n); ++h) {
     const auto x = hex_corners(mesh, size_t(h));
     q.shape[size_t(h)] = hex_shape(x);
@@ -240,9 +264,14 @@ HexQuality measure_hex_quality(const HexMesh& mesh) {
     q.scaled_jacobian[size_t(h)] = sj;
     if (sj <= 0) ++inverted;
     if (sj < 0.2) ++below_0_2;
+    const double gauss = hex_gauss_scaled_jacobian(x);
+    gauss_min = std::min(gauss_min, gauss);
+    if (gauss <= 0) ++gauss_inverted;
   }
   q.inverted = inverted;
   q.below_0_2 = below_0_2;
+  q.gauss_inverted = gauss_inverted;
+  q.gauss_scaled_jacobian_min = gauss_min;
   q.shape_stats = summarize(q.shape);
   q.scaled_jacobian_stats = summarize(q.scaled_jacobian);
   return q;

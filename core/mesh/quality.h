@@ -22,6 +22,12 @@ double hex_shape(const std::array<Vec3, 8>& corners);
 //! length; we return 0 there (the element is degenerate).
 double hex_scaled_jacobian(const std::array<Vec3, 8>& corners);
 
+//! The scaled Jacobian at the 2x2x2 Gauss points of the trilinear map (xi, eta, zeta = +-1/sqrt 3):
+//! min over the eight of det(J) / (|J1| |J2| |J3|), J's columns the map's derivatives, in
+//! [-1, 1]; 0 when a column vanishes. A solver integrates there, and FEBio refuses a model with
+//! det(J) <= 0 at any of them, which a hex valid at its corners never has but a warped one can.
+double hex_gauss_scaled_jacobian(const std::array<Vec3, 8>& corners);
+
 //! Both of the above from one pass over the nine Jacobians (the smoother's inner loop
 //! needs both for every trial position); bit-identical to calling them separately.
 struct HexScaledJacobianAndShape {
@@ -71,6 +77,8 @@ struct HexQuality {
   QualityStats shape_stats, scaled_jacobian_stats;
   size_t inverted = 0;      //!< scaled Jacobian <= 0
   size_t below_0_2 = 0;     //!< scaled Jacobian < 0.2
+  double gauss_scaled_jacobian_min = 0;  //!< min over hexes of hex_gauss_scaled_jacobian
+  size_t gauss_inverted = 0;             //!< hexes with det(J) <= 0 at a Gauss point
 };
 HexQuality measure_hex_quality(const HexMesh& mesh);
 

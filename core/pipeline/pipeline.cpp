@@ -594,6 +594,13 @@ void check_strict(const PipelineResult& result, const PipelineOptions& options) 
         << "); --strict writes nothing";
     throw MeshingError(out.str());
   }
+  if (result.quality.gauss_inverted > 0) {
+    std::ostringstream out;
+    out << result.input_path << ": " << result.quality.gauss_inverted
+        << " hexes have det J <= 0 at a Gauss point (min scaled Jacobian there "
+        << result.quality.gauss_scaled_jacobian_min << "); --strict writes nothing";
+    throw MeshingError(out.str());
+  }
   if (result.boundary_faces_inside > 0) {
     std::ostringstream out;
     out << result.input_path << ": " << result.boundary_faces_inside

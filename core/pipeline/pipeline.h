@@ -34,7 +34,7 @@ struct PipelineOptions {
   bool thickness_retry = true;
   bool thex_only = false;           //!< classic THex of the input: no coarsening, dicing, projection
   bool project = true;              //!< put the boundary back on the input surface
-  bool strict = false;              //!< fail (MeshingError) if an inverted hex remains
+  bool strict = false;              //!< fail (MeshingError) if a hex is inverted at a corner or a Gauss point
   //! Hexes the local smoother leaves below scaled Jacobian 0.2 get a region repair
   //! (repair_worst_hexes.h); off only to measure what it brings.
   bool repair_worst_hexes = true;

@@ -444,6 +444,9 @@ std::string summary_table(const PipelineResult& r, const PipelineOptions& o) {
                 r.input_summary.volume != 0 ? 100.0 * (r.hex_volume - r.input_summary.volume) / r.input_summary.volume
                                             : 0.0);
   out << tail;
+  std::snprintf(tail, sizeof tail, "  at the 2x2x2 Gauss points: min scaled Jacobian %.4f, det J <= 0 in %zu hexes\n",
+                r.quality.gauss_scaled_jacobian_min, r.quality.gauss_inverted);
+  out << tail;
   if (r.quality.inverted > 0) {
     out << "  WARNING: " << r.quality.inverted << " inverted hexes remain; worst:";
     for (size_t i = 0; i < r.worst_hexes.size() && i < 5; ++i)
@@ -509,6 +512,8 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
               {"inverted", r.quality.inverted},
               {"inverted_before_untangle", r.inverted_before_untangle},
               {"scaled_jacobian_below_0_2", r.quality.below_0_2},
+              {"gauss_points", {{"scaled_jacobian_min", r.quality.gauss_scaled_jacobian_min},
+                                {"inverted", r.quality.gauss_inverted}}},
               {"conforming", r.conforming},
               {"boundary_faces_inside", r.boundary_faces_inside},
               {"volume", r.hex_volume},

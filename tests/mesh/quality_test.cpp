@@ -214,3 +214,56 @@ TEST(Quality, MovingCornerEqualsFullEvaluation) {
   EXPECT_GT(checked, 1000u);
   EXPECT_GT(inverted, 100u);
 }
+
+namespace {
+
+// VTK's corner signs: corner i of the cube [-1, 1]^3.
+std::array<Vec3, 8> cube_corners() {
+  return {Vec3(-1, -1, -1), Vec3(1, -1, -1), Vec3(1, 1, -1), Vec3(-1, 1, -1),
+          Vec3(-1, -1, 1),  Vec3(1, -1, 1),  Vec3(1, 1, 1),  Vec3(-1, 1, 1)};
+}
+
+}  // namespace
+
+TEST(HexGaussPoints, CubeAndAffineHexesHaveTheirCornerValue) {
+  EXPECT_NEAR(dthex::hex_gauss_scaled_jacobian(cube_corners()), 1.0, 1e-15);
+  // An affine map has one Jacobian everywhere: the Gauss points see what the corners see.
+  Eigen::Matrix3d a;
+  a << 2.0, 0.7, -0.3, 0.1, 1.5, 0.4, 0.2, -0.5, 0.8;
+  std::array<Vec3, 8> sheared = cube_corners();
+  for (Vec3& p : sheared) p = a * p + Vec3(3, -1, 7);
+  EXPECT_NEAR(dthex::hex_gauss_scaled_jacobian(sheared), dthex::hex_scaled_jacobian(sheared), 1e-12);
+  // Mirrored: inverted everywhere.
+  std::array<Vec3, 8> mirrored = cube_corners();
+  for (Vec3& p : mirrored) p.x() = -p.x();
+  EXPECT_NEAR(dthex::hex_gauss_scaled_jacobian(mirrored), -1.0, 1e-15);
+}
+
+TEST(HexGaussPoints, FrustumHasTheClosedFormValue) {
+  // Top face shrunk by s about the axis: x = xi f, y = eta f, z = zeta with f = 1 + (s - 1)(1 + zeta)/2.
+  // The scaled Jacobian is 1 / sqrt(1 + ((s - 1)/2)^2 (xi^2 + eta^2)): at the Gauss points
+  // xi^2 + eta^2 = 2/3, at the corners 2, so the two differ and each is known.
+  const double s = 0.5;
+  std::array<Vec3, 8> frustum = cube_corners();
+  for (Vec3& p : frustum) {
+    const double f = p.z() > 0 ? s : 1.0;
+    p.x() *= f;
+    p.y() *= f;
+  }
+  EXPECT_NEAR(dthex::hex_gauss_scaled_jacobian(frustum), 1.0 / std::sqrt(1.0 + 0.0625 * 2.0 / 3.0), 1e-14);
+  EXPECT_NEAR(dthex::hex_scaled_jacobian(frustum), 1.0 / std::sqrt(1.0 + 0.0625 * 2.0), 1e-14);
+}
+
+TEST(HexGaussPoints, MeasureCountsHexesInvertedAtAGaussPoint) {
+  // Two hexes, the second with its corners in mirrored order (inverted everywhere).
+  dthex::HexMesh mesh;
+  const auto c = cube_corners();
+  for (const Vec3& p : c) mesh.nodes.push_back(p);
+  for (const Vec3& p : c) mesh.nodes.push_back(p + Vec3(5, 0, 0));
+  mesh.hexes.push_back({0, 1, 2, 3, 4, 5, 6, 7});
+  mesh.hexes.push_back({9, 8, 11, 10, 13, 12, 15, 14});  // x mirrored
+  const dthex::HexQuality q = dthex::measure_hex_quality(mesh);
+  EXPECT_EQ(q.gauss_inverted, 1u);
+  EXPECT_NEAR(q.gauss_scaled_jacobian_min, -1.0, 1e-15);
+  EXPECT_NEAR(dthex::hex_gauss_scaled_jacobian(dthex::hex_corners(mesh, 0)), 1.0, 1e-15);
+}
