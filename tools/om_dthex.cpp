@@ -54,6 +54,7 @@ struct CommandLine {
   bool quiet = false, verbose = false, verify_only = false, compare_thex = false;
   std::vector<std::string> set_texts;         //!< --set, as given
   std::vector<dthex::UserSetSpec> user_sets;  //!< --set, parsed
+  dthex::HexWriteOptions write;               //!< --msh-version
 };
 
 std::string lower_extension(const std::string& path) {
@@ -147,7 +148,7 @@ int run(CommandLine& cl) {
   dthex::AtomicWriteGroup outputs;  // all outputs appear together, or none does
   dthex::MeshSets sets = dthex::find_mesh_sets(result.hexes, result.input);
   dthex::add_user_sets(sets, result.hexes, cl.user_sets);  // an empty set is an error, before any file
-  dthex::write_hex_mesh(result.hexes, cl.output, fields, &sets);
+  dthex::write_hex_mesh(result.hexes, cl.output, fields, &sets, cl.write);
   if (!cl.coarse_surface.empty()) dthex::write_surface(result.coarse, cl.coarse_surface);
   if (!cl.report.empty()) {
     const bool html = lower_extension(cl.report) == ".html";
@@ -256,10 +257,18 @@ int main(int argc, char** argv) {
       ->default_val(600.0)
       ->check(CLI::PositiveNumber);
   app.add_option("--set", cl.set_texts,
-                 "name a set of boundary faces and nodes, written where the format has sets (.inp):\n"
+                 "name a set of boundary faces and nodes, written where the format has sets (.inp .msh .feb .exo):\n"
                  "NAME=box:X0,Y0,Z0,X1,Y1,Z1 (faces with every corner in the box) or\n"
                  "NAME=plane:PX,PY,PZ,NX,NY,NZ,DISTANCE (every corner within DISTANCE of the plane\n"
                  "through P with normal N); repeatable; a set that selects no face is an error");
+  app.add_option_function<std::string>(
+         "--msh-version",
+         [&](const std::string& v) {
+           cl.write.msh_version =
+               v == "2.2" ? dthex::HexWriteOptions::MshVersion::V22 : dthex::HexWriteOptions::MshVersion::V41;
+         },
+         "version of a .msh output: 4.1 (default) or 2.2 (ASCII, for readers that take only that, as code_aster)")
+      ->check(CLI::IsMember({"4.1", "2.2"}));
   app.add_option("--report", cl.report,
                  "write a report; the extension picks it: .json (statistics, histograms, timings, options) or .html\n"
                  "(one self-contained page: stage table, quality histograms, 3D view coloured by quality)");

@@ -8,6 +8,7 @@
 #include <exodusII.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <climits>
@@ -51,6 +52,47 @@ void check_mesh(const HexMesh& mesh, const HexFields& fields, const std::string&
   check_field(fields.scaled_jacobian, "scaled_jacobian");
 }
 
+//! Refuses sets that do not belong to the mesh: every hex must be in exactly one part (the
+//! formats with element blocks need that), every face and node in range.
+void check_sets(const HexMesh& mesh, const MeshSets& sets, const std::string& path) {
+  const std::string prefix = "cannot write '" + path + "': ";
+  std::vector<int> part_count(mesh.hexes.size(), 0);
+  for (const HexSet& part : sets.parts)
+    for (int h : part.hexes) {
+      if (h < 0 || h >= int(mesh.hexes.size()))
+        throw InputError(prefix + "part '" + part.name + "' refers to hex " + std::to_string(h));
+      ++part_count[size_t(h)];
+    }
+  for (size_t h = 0; h < part_count.size(); ++h)
+    if (part_count[h] != 1)
+      throw InputError(prefix + "hex " + std::to_string(h) + " is in " + std::to_string(part_count[h]) +
+                       " parts, not one");
+  for (const FaceSet& surface : sets.surfaces)
+    for (const HexFace& f : surface.faces)
+      if (f.hex < 0 || f.hex >= int(mesh.hexes.size()) || f.side < 0 || f.side > 5)
+        throw InputError(prefix + "surface '" + surface.name + "' has a face (" + std::to_string(f.hex) + ", " +
+                         std::to_string(f.side) + ") outside the mesh");
+  for (const NodeSet& set : sets.node_sets)
+    for (int n : set.nodes)
+      if (n < 0 || n >= int(mesh.nodes.size()))
+        throw InputError(prefix + "node set '" + set.name + "' refers to node " + std::to_string(n));
+}
+
+//! Each hex's part (0-based index into sets.parts).
+std::vector<int> part_of_hexes(const MeshSets& sets, size_t hex_count) {
+  std::vector<int> part_of(hex_count, 0);
+  for (size_t p = 0; p < sets.parts.size(); ++p)
+    for (int h : sets.parts[p].hexes) part_of[size_t(h)] = int(p);
+  return part_of;
+}
+
+//! The four nodes of a face, in the order whose normal points out of its hex.
+std::array<int, 4> outward_face_nodes(const HexMesh& mesh, const HexFace& f) {
+  const auto& hex = mesh.hexes[size_t(f.hex)];
+  const auto& corners = kHexSideCornersOutward[size_t(f.side)];
+  return {hex[size_t(corners[0])], hex[size_t(corners[1])], hex[size_t(corners[2])], hex[size_t(corners[3])]};
+}
+
 bool host_is_little_endian() {
   const uint16_t probe = 1;
   unsigned char first = 0;
@@ -81,9 +123,35 @@ void write_converted(OutputFile& file, size_t count, Fill fill) {
   }
 }
 
-void write_vtu(const HexMesh& mesh, const HexFields& fields, OutputFile& file) {
+//! The cells of a VTU or legacy VTK file: the hexes, then (HexWriteOptions::vtk_face_set_cells)
+//! each face set's faces as quads, corners in outward order. A quad carries the cell data of the
+//! hex it is a face of, part 0, and its face set's 1-based index in the array "face_set" (0 on the
+//! hexes), so that thresholding "part" >= 1 or "face_set" >= 1 separates the two.
+struct VtkCells {
+  std::vector<int> part_of;              //!< each hex's 0-based part
+  bool face_set_cells = false;           //!< the quads and "face_set" are written
+  std::vector<std::array<int, 4>> quads;
+  std::vector<int> quad_hex, quad_set;   //!< each quad's hex and 0-based face set
+};
+
+VtkCells vtk_cells(const HexMesh& mesh, const MeshSets& sets, bool face_set_cells) {
+  VtkCells cells;
+  cells.part_of = part_of_hexes(sets, mesh.hexes.size());
+  cells.face_set_cells = face_set_cells;
+  if (face_set_cells)
+    for (size_t s = 0; s < sets.surfaces.size(); ++s)
+      for (const HexFace& f : sets.surfaces[s].faces) {
+        cells.quads.push_back(outward_face_nodes(mesh, f));
+        cells.quad_hex.push_back(f.hex);
+        cells.quad_set.push_back(int(s));
+      }
+  return cells;
+}
+
+void write_vtu(const HexMesh& mesh, const HexFields& fields, const VtkCells& vc, OutputFile& file) {
   static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 must be three packed doubles");
-  const size_t n_nodes = mesh.nodes.size(), n_hexes = mesh.hexes.size();
+  const size_t n_nodes = mesh.nodes.size(), n_hexes = mesh.hexes.size(), n_quads = vc.quads.size();
+  const size_t n_cells = n_hexes + n_quads;
 
   std::vector<AppendedArray> point_data, cell_data, points, cells;
   if (!mesh.boundary_facet.empty())
@@ -95,35 +163,57 @@ void write_vtu(const HexMesh& mesh, const HexFields& fields, OutputFile& file) {
   auto add_field = [&](const std::vector<double>& values, const char* name) {
     if (values.empty()) return;
     cell_data.push_back({std::string(R"(<DataArray type="Float64" Name=")") + name + R"(" format="appended")",
-                         n_hexes * sizeof(double),
-                         [&values](OutputFile& f) { f.write(values.data(), values.size() * sizeof(double)); }});
+                         n_cells * sizeof(double), [&values, &vc, n_quads](OutputFile& f) {
+                           f.write(values.data(), values.size() * sizeof(double));
+                           write_converted<double>(f, n_quads, [&](size_t q, std::vector<double>& out) {
+                             out.push_back(values[size_t(vc.quad_hex[q])]);
+                           });
+                         }});
   };
   add_field(fields.shape, "shape");
   add_field(fields.scaled_jacobian, "scaled_jacobian");
+  cell_data.push_back({R"(<DataArray type="Int32" Name="part" format="appended")", n_cells * sizeof(int32_t),
+                       [&](OutputFile& f) {
+                         write_converted<int32_t>(f, n_cells, [&](size_t c, std::vector<int32_t>& out) {
+                           out.push_back(c < n_hexes ? int32_t(vc.part_of[c] + 1) : 0);
+                         });
+                       }});
+  if (vc.face_set_cells)
+    cell_data.push_back({R"(<DataArray type="Int32" Name="face_set" format="appended")", n_cells * sizeof(int32_t),
+                         [&](OutputFile& f) {
+                           write_converted<int32_t>(f, n_cells, [&](size_t c, std::vector<int32_t>& out) {
+                             out.push_back(c < n_hexes ? 0 : int32_t(vc.quad_set[c - n_hexes] + 1));
+                           });
+                         }});
   points.push_back({R"(<DataArray type="Float64" Name="Points" NumberOfComponents="3" format="appended")",
                     n_nodes * 3 * sizeof(double),
                     [&](OutputFile& f) { f.write(mesh.nodes.data(), n_nodes * sizeof(Vec3)); }});
-  cells.push_back({R"(<DataArray type="Int64" Name="connectivity" format="appended")", n_hexes * 8 * sizeof(int64_t),
-                   [&](OutputFile& f) {
+  cells.push_back({R"(<DataArray type="Int64" Name="connectivity" format="appended")",
+                   (n_hexes * 8 + n_quads * 4) * sizeof(int64_t), [&](OutputFile& f) {
                      write_converted<int64_t>(f, n_hexes, [&](size_t h, std::vector<int64_t>& out) {
                        for (int n : mesh.hexes[h]) out.push_back(n);
                      });
+                     write_converted<int64_t>(f, n_quads, [&](size_t q, std::vector<int64_t>& out) {
+                       for (int n : vc.quads[q]) out.push_back(n);
+                     });
                    }});
-  cells.push_back({R"(<DataArray type="Int64" Name="offsets" format="appended")", n_hexes * sizeof(int64_t),
+  cells.push_back({R"(<DataArray type="Int64" Name="offsets" format="appended")", n_cells * sizeof(int64_t),
                    [&](OutputFile& f) {
-                     write_converted<int64_t>(
-                         f, n_hexes, [](size_t h, std::vector<int64_t>& out) { out.push_back(int64_t(8 * (h + 1))); });
+                     write_converted<int64_t>(f, n_cells, [n_hexes](size_t c, std::vector<int64_t>& out) {
+                       out.push_back(c < n_hexes ? int64_t(8 * (c + 1)) : int64_t(8 * n_hexes + 4 * (c + 1 - n_hexes)));
+                     });
                    }});
-  cells.push_back({R"(<DataArray type="UInt8" Name="types" format="appended")", n_hexes, [&](OutputFile& f) {
-                     write_converted<uint8_t>(f, n_hexes,
-                                              [](size_t, std::vector<uint8_t>& out) { out.push_back(12); });
+  cells.push_back({R"(<DataArray type="UInt8" Name="types" format="appended")", n_cells, [&](OutputFile& f) {
+                     write_converted<uint8_t>(f, n_cells, [n_hexes](size_t c, std::vector<uint8_t>& out) {
+                       out.push_back(c < n_hexes ? 12 : 9);  // VTK_HEXAHEDRON, VTK_QUAD
+                     });
                    }});
 
   file.print("<?xml version=\"1.0\"?>\n"
              "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"%s\" header_type=\"UInt64\">\n"
              "  <UnstructuredGrid>\n"
              "    <Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n",
-             host_is_little_endian() ? "LittleEndian" : "BigEndian", n_nodes, n_hexes);
+             host_is_little_endian() ? "LittleEndian" : "BigEndian", n_nodes, n_cells);
   uint64_t offset = 0;
   auto declare = [&](const char* section, const std::vector<AppendedArray>& arrays) {
     if (arrays.empty()) return;
@@ -154,27 +244,37 @@ void write_vtu(const HexMesh& mesh, const HexFields& fields, OutputFile& file) {
 // ---------------------------------------------------------------------------------------
 // Legacy VTK, ASCII: readable by every VTK-based tool ever released.
 
-void write_legacy_vtk(const HexMesh& mesh, const HexFields& fields, OutputFile& file) {
-  const size_t n_nodes = mesh.nodes.size(), n_hexes = mesh.hexes.size();
+void write_legacy_vtk(const HexMesh& mesh, const HexFields& fields, const VtkCells& vc, OutputFile& file) {
+  const size_t n_nodes = mesh.nodes.size(), n_hexes = mesh.hexes.size(), n_quads = vc.quads.size();
+  const size_t n_cells = n_hexes + n_quads;
   file.print("# vtk DataFile Version 3.0\nom_dthex hex mesh\nASCII\nDATASET UNSTRUCTURED_GRID\n");
   file.print("POINTS %zu double\n", n_nodes);
   for (const Vec3& p : mesh.nodes) file.print("%.17g %.17g %.17g\n", p.x(), p.y(), p.z());
-  file.print("CELLS %zu %zu\n", n_hexes, 9 * n_hexes);
+  file.print("CELLS %zu %zu\n", n_cells, 9 * n_hexes + 5 * n_quads);
   for (const auto& h : mesh.hexes)
     file.print("8 %d %d %d %d %d %d %d %d\n", h[0], h[1], h[2], h[3], h[4], h[5], h[6], h[7]);
-  file.print("CELL_TYPES %zu\n", n_hexes);
+  for (const auto& q : vc.quads) file.print("4 %d %d %d %d\n", q[0], q[1], q[2], q[3]);
+  file.print("CELL_TYPES %zu\n", n_cells);
   for (size_t h = 0; h < n_hexes; ++h) file.print("12\n");
+  for (size_t q = 0; q < n_quads; ++q) file.print("9\n");
   // FIELD rather than SCALARS: VTK's legacy reader loads only the first SCALARS array
   // unless told otherwise, but every array of a FIELD.
   std::vector<std::pair<const std::vector<double>*, const char*>> arrays;
   if (!fields.shape.empty()) arrays.emplace_back(&fields.shape, "shape");
   if (!fields.scaled_jacobian.empty()) arrays.emplace_back(&fields.scaled_jacobian, "scaled_jacobian");
-  if (!arrays.empty()) {
-    file.print("CELL_DATA %zu\nFIELD FieldData %zu\n", n_hexes, arrays.size());
-    for (const auto& [values, name] : arrays) {
-      file.print("%s 1 %zu double\n", name, n_hexes);
-      for (double v : *values) file.print("%.17g\n", v);
-    }
+  file.print("CELL_DATA %zu\nFIELD FieldData %zu\n", n_cells, arrays.size() + (vc.face_set_cells ? 2 : 1));
+  for (const auto& [values, name] : arrays) {
+    file.print("%s 1 %zu double\n", name, n_cells);
+    for (double v : *values) file.print("%.17g\n", v);
+    for (int h : vc.quad_hex) file.print("%.17g\n", (*values)[size_t(h)]);
+  }
+  file.print("part 1 %zu int\n", n_cells);
+  for (int p : vc.part_of) file.print("%d\n", p + 1);
+  for (size_t q = 0; q < n_quads; ++q) file.print("0\n");
+  if (vc.face_set_cells) {
+    file.print("face_set 1 %zu int\n", n_cells);
+    for (size_t h = 0; h < n_hexes; ++h) file.print("0\n");
+    for (int set : vc.quad_set) file.print("%d\n", set + 1);
   }
   if (!mesh.boundary_facet.empty()) {
     file.print("POINT_DATA %zu\nSCALARS boundary int 1\nLOOKUP_TABLE default\n", n_nodes);
@@ -183,30 +283,103 @@ void write_legacy_vtk(const HexMesh& mesh, const HexFields& fields, OutputFile& 
 }
 
 // ---------------------------------------------------------------------------------------
-// Gmsh MSH 4.1 ASCII: one volume entity (tag 1) in physical group 1 "solid"; element type 5
-// is the 8-node hexahedron, whose corner numbering is VTK's.
+// Gmsh MSH 4.1 or 2.2 ASCII. Physical volume i+1 "bodyN" is part i, its hexes (type 5, VTK's
+// corner numbering) in volume entity i+1; physical surface j+1 is face set j, its faces as
+// quadrangles (type 3) in surface entity j+1. Physical tags are per dimension in Gmsh, so a
+// volume and a surface may share a number. All nodes are listed in the block of volume 1 (each
+// node is listed once; elements of any entity refer to nodes by tag). Hex h has tag h + 1, the
+// quadrangles follow from hex count + 1 in set order.
 
-void write_gmsh(const HexMesh& mesh, OutputFile& file) {
+void write_gmsh_physical_names(const MeshSets& sets, OutputFile& file) {
+  file.print("$PhysicalNames\n%zu\n", sets.parts.size() + sets.surfaces.size());
+  for (size_t p = 0; p < sets.parts.size(); ++p) file.print("3 %zu \"%s\"\n", p + 1, sets.parts[p].name.c_str());
+  for (size_t s = 0; s < sets.surfaces.size(); ++s)
+    file.print("2 %zu \"%s\"\n", s + 1, sets.surfaces[s].name.c_str());
+  file.print("$EndPhysicalNames\n");
+}
+
+void write_gmsh41(const HexMesh& mesh, const MeshSets& sets, OutputFile& file) {
   const size_t n_nodes = mesh.nodes.size(), n_hexes = mesh.hexes.size();
-  Vec3 lo = mesh.nodes.front(), hi = mesh.nodes.front();
-  for (const Vec3& p : mesh.nodes) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
+  auto print_box = [&](const auto& node_lists) {
+    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (const auto& nodes : node_lists)
+      for (int n : nodes) {
+        lo = lo.cwiseMin(mesh.nodes[size_t(n)]);
+        hi = hi.cwiseMax(mesh.nodes[size_t(n)]);
+      }
+    file.print("%.17g %.17g %.17g %.17g %.17g %.17g", lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z());
+  };
   file.print("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n");
-  file.print("$PhysicalNames\n1\n3 1 \"solid\"\n$EndPhysicalNames\n");
-  file.print("$Entities\n0 0 0 1\n1 %.17g %.17g %.17g %.17g %.17g %.17g 1 1 0\n$EndEntities\n", lo.x(), lo.y(),
-             lo.z(), hi.x(), hi.y(), hi.z());
+  write_gmsh_physical_names(sets, file);
+  file.print("$Entities\n0 0 %zu %zu\n", sets.surfaces.size(), sets.parts.size());
+  size_t n_quads = 0;
+  for (size_t s = 0; s < sets.surfaces.size(); ++s) {
+    std::vector<std::array<int, 4>> faces;
+    for (const HexFace& f : sets.surfaces[s].faces) faces.push_back(outward_face_nodes(mesh, f));
+    n_quads += faces.size();
+    file.print("%zu ", s + 1);
+    print_box(faces);
+    file.print(" 1 %zu 0\n", s + 1);
+  }
+  for (size_t p = 0; p < sets.parts.size(); ++p) {
+    std::vector<std::array<int, 8>> hexes;
+    for (int h : sets.parts[p].hexes) hexes.push_back(mesh.hexes[size_t(h)]);
+    file.print("%zu ", p + 1);
+    print_box(hexes);
+    file.print(" 1 %zu 0\n", p + 1);
+  }
+  file.print("$EndEntities\n");
   file.print("$Nodes\n1 %zu 1 %zu\n3 1 0 %zu\n", n_nodes, n_nodes, n_nodes);
   for (size_t n = 0; n < n_nodes; ++n) file.print("%zu\n", n + 1);
   for (const Vec3& p : mesh.nodes) file.print("%.17g %.17g %.17g\n", p.x(), p.y(), p.z());
   file.print("$EndNodes\n");
-  file.print("$Elements\n1 %zu 1 %zu\n3 1 5 %zu\n", n_hexes, n_hexes, n_hexes);
-  for (size_t e = 0; e < n_hexes; ++e) {
-    const auto& h = mesh.hexes[e];
-    file.print("%zu %d %d %d %d %d %d %d %d\n", e + 1, h[0] + 1, h[1] + 1, h[2] + 1, h[3] + 1, h[4] + 1, h[5] + 1,
-               h[6] + 1, h[7] + 1);
+  const size_t n_elements = n_hexes + n_quads;
+  file.print("$Elements\n%zu %zu 1 %zu\n", sets.parts.size() + sets.surfaces.size(), n_elements, n_elements);
+  for (size_t p = 0; p < sets.parts.size(); ++p) {
+    file.print("3 %zu 5 %zu\n", p + 1, sets.parts[p].hexes.size());
+    for (int e : sets.parts[p].hexes) {
+      const auto& h = mesh.hexes[size_t(e)];
+      file.print("%d %d %d %d %d %d %d %d %d\n", e + 1, h[0] + 1, h[1] + 1, h[2] + 1, h[3] + 1, h[4] + 1, h[5] + 1,
+                 h[6] + 1, h[7] + 1);
+    }
   }
+  size_t tag = n_hexes;
+  for (size_t s = 0; s < sets.surfaces.size(); ++s) {
+    file.print("2 %zu 3 %zu\n", s + 1, sets.surfaces[s].faces.size());
+    for (const HexFace& f : sets.surfaces[s].faces) {
+      const auto q = outward_face_nodes(mesh, f);
+      file.print("%zu %d %d %d %d\n", ++tag, q[0] + 1, q[1] + 1, q[2] + 1, q[3] + 1);
+    }
+  }
+  file.print("$EndElements\n");
+}
+
+// MSH 2.2: each element line carries two tags, its physical group and its elementary entity.
+void write_gmsh22(const HexMesh& mesh, const MeshSets& sets, OutputFile& file) {
+  const size_t n_nodes = mesh.nodes.size(), n_hexes = mesh.hexes.size();
+  file.print("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n");
+  write_gmsh_physical_names(sets, file);
+  file.print("$Nodes\n%zu\n", n_nodes);
+  for (size_t n = 0; n < n_nodes; ++n) {
+    const Vec3& p = mesh.nodes[n];
+    file.print("%zu %.17g %.17g %.17g\n", n + 1, p.x(), p.y(), p.z());
+  }
+  file.print("$EndNodes\n");
+  size_t n_quads = 0;
+  for (const FaceSet& surface : sets.surfaces) n_quads += surface.faces.size();
+  file.print("$Elements\n%zu\n", n_hexes + n_quads);
+  for (size_t p = 0; p < sets.parts.size(); ++p)
+    for (int e : sets.parts[p].hexes) {
+      const auto& h = mesh.hexes[size_t(e)];
+      file.print("%d 5 2 %zu %zu %d %d %d %d %d %d %d %d\n", e + 1, p + 1, p + 1, h[0] + 1, h[1] + 1, h[2] + 1,
+                 h[3] + 1, h[4] + 1, h[5] + 1, h[6] + 1, h[7] + 1);
+    }
+  size_t tag = n_hexes;
+  for (size_t s = 0; s < sets.surfaces.size(); ++s)
+    for (const HexFace& f : sets.surfaces[s].faces) {
+      const auto q = outward_face_nodes(mesh, f);
+      file.print("%zu 3 2 %zu %zu %d %d %d %d\n", ++tag, s + 1, s + 1, q[0] + 1, q[1] + 1, q[2] + 1, q[3] + 1);
+    }
   file.print("$EndElements\n");
 }
 
@@ -255,10 +428,11 @@ void write_abaqus(const HexMesh& mesh, const MeshSets& sets, OutputFile& file) {
 }
 
 // ---------------------------------------------------------------------------------------
-// FEBio 4.0: Mesh/Nodes + Elements type hex8 (VTK corner order), and a SolidDomain for the
+// FEBio 4.0: Mesh/Nodes, an Elements type hex8 (VTK corner order) per part, a NodeSet per node
+// set, a Surface of quad4 facets (outward, right-hand rule) per face set, and a SolidDomain per
 // part whose material the user assigns in FEBio Studio.
 
-void write_febio(const HexMesh& mesh, OutputFile& file) {
+void write_febio(const HexMesh& mesh, const MeshSets& sets, OutputFile& file) {
   file.print("<?xml version=\"1.0\" encoding=\"ISO-8859-1\"?>\n"
              "<febio_spec version=\"4.0\">\n"
              "  <Module type=\"solid\"/>\n"
@@ -268,22 +442,37 @@ void write_febio(const HexMesh& mesh, OutputFile& file) {
     const Vec3& p = mesh.nodes[n];
     file.print("      <node id=\"%zu\">%.17g,%.17g,%.17g</node>\n", n + 1, p.x(), p.y(), p.z());
   }
-  file.print("    </Nodes>\n    <Elements type=\"hex8\" name=\"Part1\">\n");
-  for (size_t e = 0; e < mesh.hexes.size(); ++e) {
-    const auto& h = mesh.hexes[e];
-    file.print("      <elem id=\"%zu\">%d,%d,%d,%d,%d,%d,%d,%d</elem>\n", e + 1, h[0] + 1, h[1] + 1, h[2] + 1,
-               h[3] + 1, h[4] + 1, h[5] + 1, h[6] + 1, h[7] + 1);
+  file.print("    </Nodes>\n");
+  for (const HexSet& part : sets.parts) {
+    file.print("    <Elements type=\"hex8\" name=\"%s\">\n", part.name.c_str());
+    for (int e : part.hexes) {
+      const auto& h = mesh.hexes[size_t(e)];
+      file.print("      <elem id=\"%d\">%d,%d,%d,%d,%d,%d,%d,%d</elem>\n", e + 1, h[0] + 1, h[1] + 1, h[2] + 1,
+                 h[3] + 1, h[4] + 1, h[5] + 1, h[6] + 1, h[7] + 1);
+    }
+    file.print("    </Elements>\n");
   }
-  file.print("    </Elements>\n"
-             "  </Mesh>\n"
-             "  <MeshDomains>\n"
-             "    <SolidDomain name=\"Part1\" mat=\"\"/>\n"
-             "  </MeshDomains>\n"
-             "</febio_spec>\n");
+  for (const NodeSet& set : sets.node_sets) {
+    file.print("    <NodeSet name=\"%s\">", set.name.c_str());
+    for (size_t i = 0; i < set.nodes.size(); ++i) file.print(i == 0 ? "%d" : ",%d", set.nodes[i] + 1);
+    file.print("</NodeSet>\n");
+  }
+  for (const FaceSet& surface : sets.surfaces) {
+    file.print("    <Surface name=\"%s\">\n", surface.name.c_str());
+    for (size_t i = 0; i < surface.faces.size(); ++i) {
+      const auto q = outward_face_nodes(mesh, surface.faces[i]);
+      file.print("      <quad4 id=\"%zu\">%d,%d,%d,%d</quad4>\n", i + 1, q[0] + 1, q[1] + 1, q[2] + 1, q[3] + 1);
+    }
+    file.print("    </Surface>\n");
+  }
+  file.print("  </Mesh>\n  <MeshDomains>\n");
+  for (const HexSet& part : sets.parts) file.print("    <SolidDomain name=\"%s\" mat=\"\"/>\n", part.name.c_str());
+  file.print("  </MeshDomains>\n</febio_spec>\n");
 }
 
 // ---------------------------------------------------------------------------------------
-// Exodus II through libexoIIv2c (netCDF classic): one element block "HEX8".
+// Exodus II through libexoIIv2c (netCDF classic): an element block "HEX8" per part, named node
+// sets and side sets.
 
 [[noreturn]] void exodus_fail(const std::string& target, const char* call, int status) {
   const char* message = nullptr;
@@ -296,7 +485,12 @@ void write_febio(const HexMesh& mesh, OutputFile& file) {
                            (detail.empty() ? "" : ": " + detail));
 }
 
-void write_exodus(const HexMesh& mesh, const std::string& temporary, const std::string& target) {
+// Exodus numbers the sides of a HEX8 differently from Abaqus: Exodus side k is Abaqus
+// S(((k + 1) mod 6) + 1), so Abaqus side s (0-based) is Exodus side kExodusSideOfAbaqusSide[s].
+// Both list the same four corners for the face.
+constexpr std::array<int, 6> kExodusSideOfAbaqusSide = {5, 6, 1, 2, 3, 4};
+
+void write_exodus(const HexMesh& mesh, const MeshSets& sets, const std::string& temporary, const std::string& target) {
   ex_opts(0);  // no printing, and never EX_ABORT: library code must not exit the process
   int cpu_word_size = int(sizeof(double)), io_word_size = int(sizeof(double));
   const int exoid = ex_create(temporary.c_str(), EX_CLOBBER, &cpu_word_size, &io_word_size);
@@ -308,7 +502,9 @@ void write_exodus(const HexMesh& mesh, const std::string& temporary, const std::
     }
   };
   const size_t n_nodes = mesh.nodes.size(), n_hexes = mesh.hexes.size();
-  check(ex_put_init(exoid, "om_dthex hex mesh", 3, int64_t(n_nodes), int64_t(n_hexes), 1, 0, 0), "ex_put_init");
+  check(ex_put_init(exoid, "om_dthex hex mesh", 3, int64_t(n_nodes), int64_t(n_hexes), int64_t(sets.parts.size()),
+                    int64_t(sets.node_sets.size()), int64_t(sets.surfaces.size())),
+        "ex_put_init");
   std::vector<double> x(n_nodes), y(n_nodes), z(n_nodes);
   for (size_t n = 0; n < n_nodes; ++n) {
     x[n] = mesh.nodes[n].x();
@@ -319,12 +515,52 @@ void write_exodus(const HexMesh& mesh, const std::string& temporary, const std::
   char coordinate_names[3][2] = {"x", "y", "z"};
   char* names[3] = {coordinate_names[0], coordinate_names[1], coordinate_names[2]};
   check(ex_put_coord_names(exoid, names), "ex_put_coord_names");
-  check(ex_put_elem_block(exoid, 1, "HEX8", int64_t(n_hexes), 8, 0), "ex_put_elem_block");
-  std::vector<int> connectivity;
-  connectivity.reserve(8 * n_hexes);
-  for (const auto& h : mesh.hexes)
-    for (int n : h) connectivity.push_back(n + 1);
-  check(ex_put_elem_conn(exoid, 1, connectivity.data()), "ex_put_elem_conn");
+  // Block p+1 holds part p's hexes; the element number of hex h is its place in the blocks.
+  std::vector<int> element_of(n_hexes, 0), id_map;
+  bool identity = true;
+  for (size_t p = 0; p < sets.parts.size(); ++p) {
+    const std::vector<int>& hexes = sets.parts[p].hexes;
+    check(ex_put_elem_block(exoid, int64_t(p + 1), "HEX8", int64_t(hexes.size()), 8, 0), "ex_put_elem_block");
+    std::vector<int> connectivity;
+    connectivity.reserve(8 * hexes.size());
+    for (int h : hexes) {
+      for (int n : mesh.hexes[size_t(h)]) connectivity.push_back(n + 1);
+      id_map.push_back(h + 1);
+      element_of[size_t(h)] = int(id_map.size());
+      identity = identity && element_of[size_t(h)] == h + 1;
+    }
+    check(ex_put_elem_conn(exoid, int64_t(p + 1), connectivity.data()), "ex_put_elem_conn");
+  }
+  if (!identity) check(ex_put_id_map(exoid, EX_ELEM_MAP, id_map.data()), "ex_put_id_map");
+  auto put_names = [&](ex_entity_type type, const auto& named) {
+    if (named.empty()) return;
+    std::vector<std::vector<char>> storage;
+    std::vector<char*> pointers;
+    for (const auto& item : named) {
+      storage.emplace_back(item.name.begin(), item.name.end());
+      storage.back().push_back('\0');
+    }
+    for (auto& name : storage) pointers.push_back(name.data());
+    check(ex_put_names(exoid, type, pointers.data()), "ex_put_names");
+  };
+  put_names(EX_ELEM_BLOCK, sets.parts);
+  for (size_t s = 0; s < sets.node_sets.size(); ++s) {
+    std::vector<int> nodes;
+    for (int n : sets.node_sets[s].nodes) nodes.push_back(n + 1);
+    check(ex_put_set_param(exoid, EX_NODE_SET, int64_t(s + 1), int64_t(nodes.size()), 0), "ex_put_set_param");
+    check(ex_put_set(exoid, EX_NODE_SET, int64_t(s + 1), nodes.data(), nullptr), "ex_put_set");
+  }
+  put_names(EX_NODE_SET, sets.node_sets);
+  for (size_t s = 0; s < sets.surfaces.size(); ++s) {
+    std::vector<int> elements, sides;
+    for (const HexFace& f : sets.surfaces[s].faces) {
+      elements.push_back(element_of[size_t(f.hex)]);
+      sides.push_back(kExodusSideOfAbaqusSide[size_t(f.side)]);
+    }
+    check(ex_put_set_param(exoid, EX_SIDE_SET, int64_t(s + 1), int64_t(elements.size()), 0), "ex_put_set_param");
+    check(ex_put_set(exoid, EX_SIDE_SET, int64_t(s + 1), elements.data(), sides.data()), "ex_put_set");
+  }
+  put_names(EX_SIDE_SET, sets.surfaces);
   const int status = ex_close(exoid);  // netCDF flushes here: a full disk shows up now
   if (status < 0) exodus_fail(target, "ex_close", status);
 }
@@ -355,21 +591,31 @@ HexFormat hex_format_from_path(const std::string& path) {
                    "' (supported:" + supported + ")");
 }
 
-void write_hex_mesh(const HexMesh& mesh, const std::string& path, const HexFields& fields, const MeshSets* sets) {
+void write_hex_mesh(const HexMesh& mesh, const std::string& path, const HexFields& fields, const MeshSets* sets,
+                    const HexWriteOptions& options) {
   const HexFormat format = hex_format_from_path(path);
   check_mesh(mesh, fields, path);
+  MeshSets found;
+  if (!sets) found = find_mesh_sets(mesh);
+  const MeshSets& named = sets ? *sets : found;
+  check_sets(mesh, named, path);
   write_atomically(path, [&](const std::string& temporary) {
     if (format == HexFormat::ExodusII) {
-      write_exodus(mesh, temporary, path);
+      write_exodus(mesh, named, temporary, path);
       return;
     }
     OutputFile file(temporary, path);
     switch (format) {
-      case HexFormat::Vtu: write_vtu(mesh, fields, file); break;
-      case HexFormat::Vtk: write_legacy_vtk(mesh, fields, file); break;
-      case HexFormat::GmshMsh41: write_gmsh(mesh, file); break;
-      case HexFormat::AbaqusInp: write_abaqus(mesh, sets ? *sets : find_mesh_sets(mesh), file); break;
-      case HexFormat::FebioFeb: write_febio(mesh, file); break;
+      case HexFormat::Vtu: write_vtu(mesh, fields, vtk_cells(mesh, named, options.vtk_face_set_cells), file); break;
+      case HexFormat::Vtk:
+        write_legacy_vtk(mesh, fields, vtk_cells(mesh, named, options.vtk_face_set_cells), file);
+        break;
+      case HexFormat::GmshMsh41:
+        if (options.msh_version == HexWriteOptions::MshVersion::V22) write_gmsh22(mesh, named, file);
+        else write_gmsh41(mesh, named, file);
+        break;
+      case HexFormat::AbaqusInp: write_abaqus(mesh, named, file); break;
+      case HexFormat::FebioFeb: write_febio(mesh, named, file); break;
       case HexFormat::ExodusII: break;
     }
     file.close();
