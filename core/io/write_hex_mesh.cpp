@@ -501,6 +501,12 @@ void write_exodus(const HexMesh& mesh, const MeshSets& sets, const std::string& 
       exodus_fail(target, call, status);
     }
   };
+  // Names longer than Exodus's default 32 characters would be truncated (a user's --set name).
+  size_t longest_name = 0;
+  for (const HexSet& part : sets.parts) longest_name = std::max(longest_name, part.name.size());
+  for (const FaceSet& surface : sets.surfaces) longest_name = std::max(longest_name, surface.name.size());
+  for (const NodeSet& set : sets.node_sets) longest_name = std::max(longest_name, set.name.size());
+  if (longest_name > 32) check(ex_set_max_name_length(exoid, int(longest_name)), "ex_set_max_name_length");
   const size_t n_nodes = mesh.nodes.size(), n_hexes = mesh.hexes.size();
   check(ex_put_init(exoid, "om_dthex hex mesh", 3, int64_t(n_nodes), int64_t(n_hexes), int64_t(sets.parts.size()),
                     int64_t(sets.node_sets.size()), int64_t(sets.surfaces.size())),
