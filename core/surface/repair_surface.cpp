@@ -1,0 +1,15 @@
+// SPDX-License-Identifier: MIT
+#include <dthex/surface/repair_surface.h>
+
+namespace dthex {
+
+SurfaceRepairReport repair_surface(TriSurface& surface, const SurfaceRepairOptions& options) {
+  SurfaceRepairReport report;
+  report.ran = true;
+  report.merge = merge_coincident_vertices(surface, options.merge);
+  report.redundant = remove_redundant_triangles(surface, options.redundant);
+  report.orientation = repair_orientation(surface, options.orientation);
+  return report;
+}
+
+}  // namespace dthex

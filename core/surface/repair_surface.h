@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: MIT
+// The safe repairs of an input surface, in the order they need (the pipeline's --repair
+// safe, run before verify_surface()): each fixes a defect of real files that cannot change
+// the shape, and what cannot be repaired this way is left for verification to refuse.
+#pragma once
+
+#include <dthex/mesh/types.h>
+#include <dthex/surface/merge_coincident_vertices.h>
+#include <dthex/surface/remove_redundant_triangles.h>
+#include <dthex/surface/repair_orientation.h>
+
+namespace dthex {
+
+struct SurfaceRepairOptions {
+  MergeCoincidentVerticesOptions merge;
+  RemoveRedundantTrianglesOptions redundant;
+  RepairOrientationOptions orientation;
+};
+
+struct SurfaceRepairReport {
+  bool ran = false;  //!< false with --repair none
+  MergeCoincidentVerticesReport merge;
+  RemoveRedundantTrianglesReport redundant;
+  RepairOrientationReport orientation;
+  //! Did any repair change the surface?
+  bool changed() const {
+    return merge.vertices_merged + redundant.collapsed_removed + redundant.duplicates_removed +
+               orientation.triangles_turned >
+           0;
+  }
+};
+
+//! Merges coincident vertices (merge_coincident_vertices.h), then removes the collapsed and
+//! duplicate triangles where the surface stays closed and manifold
+//! (remove_redundant_triangles.h), then makes each component's orientation consistent
+//! (repair_orientation.h). Vertex ids are kept (merged vertices are left unused); triangle
+//! ids shift only when triangles were removed.
+SurfaceRepairReport repair_surface(TriSurface& surface, const SurfaceRepairOptions& options = {});
+
+}  // namespace dthex
