@@ -112,8 +112,9 @@ int run(CommandLine& cl) {
   progress.set_every_stage(cl.verbose);
 
   if (cl.verify_only) {
-    const dthex::PipelineResult r = dthex::read_and_verify(cl.input, progress);
+    const dthex::PipelineResult r = dthex::read_and_verify(cl.input, progress, nullptr, cl.pipeline.repair);
     if (!cl.quiet) {
+      std::fputs(dthex::describe(r.repairs).c_str(), stdout);
       const auto& s = r.input_summary;
       std::printf("%s: valid closed surface: %zu vertices, %zu triangles, %zu component(s), %zu cavit%s, genus %d\n"
                   "  volume %.6g, bbox diagonal %.6g%s\n"
@@ -227,6 +228,14 @@ int main(int argc, char** argv) {
                  "the hexes in such a wedge are thin, and rounding it off a little lifts them. 0 keeps knife edges sharp")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 0.05));
+  std::string repair = "safe";
+  app.add_option("--repair", repair,
+                 "safe (default): before verification, repair what cannot change the shape and say so in the summary\n"
+                 "and the report: coincident vertices merged (every format), collapsed and duplicate triangles removed\n"
+                 "where the surface stays closed and manifold, triangles wound against their neighbours turned (per\n"
+                 "component, the minority). none: refuse every defect as found, ids as in the file")
+      ->default_val("safe")
+      ->check(CLI::IsMember({"safe", "none"}));
   std::string remesh = "auto";
   app.add_option("--remesh", remesh,
                  "remesh the input with even triangles before coarsening (split, collapse, flip, relax; feature lines\n"
@@ -285,6 +294,7 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
     cl.pipeline.thickness_retry = thickness_ratio == "auto";
     cl.pipeline.thickness_ratio = cl.pipeline.thickness_retry ? 0.0 : std::stod(thickness_ratio);
+    cl.pipeline.repair = repair == "none" ? dthex::PipelineOptions::Repair::none : dthex::PipelineOptions::Repair::safe;
     cl.pipeline.remesh = remesh == "on"    ? dthex::PipelineOptions::Remesh::always
                          : remesh == "off" ? dthex::PipelineOptions::Remesh::never
                                            : dthex::PipelineOptions::Remesh::automatic;

@@ -32,7 +32,9 @@ namespace dthex {
 //!   negative indices count back from the last vertex read so far.
 //! - STL: binary exactly when the size is 84 + 50 n for the count n stored at byte 80,
 //!   even if the header starts with "solid". Exactly equal vertex positions are merged
-//!   (hashing the coordinates), so a triangle soup becomes an indexed surface.
+//!   (hashing the coordinates), so a triangle soup becomes an indexed surface. The other
+//!   formats keep every vertex as written; the pipeline's safe repairs merge them
+//!   (merge_coincident_vertices.h).
 //! - PLY: element "vertex" with x, y, z of any scalar type, element "face" with a list
 //!   property vertex_indices (or vertex_index); other properties and elements are skipped.
 TriSurface read_surface(const std::string& path);

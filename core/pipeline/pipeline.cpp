@@ -212,17 +212,23 @@ std::string tetgen_switches_for(const PipelineOptions& options) {
 }
 
 PipelineResult read_and_verify(const std::string& input_path, Progress& progress,
-                               std::unique_ptr<TriangleBvh>* search_tree) {
+                               std::unique_ptr<TriangleBvh>* search_tree, PipelineOptions::Repair repair) {
   PipelineResult result;
   result.input_path = input_path;
   timed_stage(result, progress, "read", [&] {
     result.input = read_surface(input_path);
     return ReadReport{result.input.points.size(), result.input.triangles.size()};
   });
+  if (repair == PipelineOptions::Repair::safe) result.repairs = repair_surface(result.input);
   timed_stage(result, progress, "verify", [&] {
     VerifyOptions verify_options;
     verify_options.search_tree = search_tree;
-    result.input_summary = summarize_surface(verify_surface(result.input, input_path, verify_options));
+    try {
+      result.input_summary = summarize_surface(verify_surface(result.input, input_path, verify_options));
+    } catch (const InputError& e) {
+      if (!result.repairs.changed()) throw;
+      throw InputError(std::string(e.what()) + " (ids after the safe repairs; --repair none checks the file as given)");
+    }
     return result.input_summary;
   });
   return result;
@@ -615,7 +621,7 @@ void check_strict(const PipelineResult& result, const PipelineOptions& options) 
 PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions& options, Progress& progress) {
   const auto start = Clock::now();
   std::unique_ptr<TriangleBvh> input_tree;
-  PipelineResult result = read_and_verify(input_path, progress, &input_tree);
+  PipelineResult result = read_and_verify(input_path, progress, &input_tree, options.repair);
   if (!input_tree) input_tree = std::make_unique<TriangleBvh>(result.input);
   const TriangleBvh& input_bvh = *input_tree;
   remesh_if_needed(result, input_bvh, options, progress);

@@ -11,6 +11,7 @@
 #include <dthex/mesh/types.h>
 #include <dthex/pipeline/progress.h>
 #include <dthex/pipeline/stage_reports.h>
+#include <dthex/surface/repair_surface.h>
 
 #include <memory>
 #include <string>
@@ -18,6 +19,11 @@
 namespace dthex {
 
 struct PipelineOptions {
+  //! What is done to the input before verification: safe = the repairs that cannot change
+  //! the shape (repair_surface.h: coincident vertices merged, collapsed and duplicate
+  //! triangles removed, orientation made consistent); none = every defect is refused.
+  enum class Repair { safe, none };
+  Repair repair = Repair::safe;
   double eps = 0.1;                 //!< coarsening factor (sagitta / radius), in (0, 1)
   int dice = 2;                     //!< each hex into dice^3
   double h_min = 0;                 //!< smallest coarse edge size, input units; 0 = automatic
@@ -59,7 +65,8 @@ struct PipelineOptions {
 struct PipelineResult {
   std::string input_path;
   double eps = 0;                     //!< the coarsening factor used (chosen by --target-nodes or given)
-  TriSurface input;
+  TriSurface input;                   //!< as read, repaired (PipelineOptions::repair) and verified
+  SurfaceRepairReport repairs;        //!< what the safe repairs did (`ran` false with --repair none)
   SurfaceSummary input_summary;
   //! The input remeshed with even triangles (PipelineOptions::remesh), which the coarsening
   //! starts from; empty when it starts from the input itself. Projection and the distance
@@ -110,10 +117,13 @@ constexpr const char* kDTHexTetgenSwitches = "pq1.5Y";
 //! The switches a run uses: the given ones, else the method's default above.
 std::string tetgen_switches_for(const PipelineOptions& options);
 
-//! Reads and verifies only (InputError on a bad surface). `search_tree`, if given, receives
-//! the verification's search tree over result.input when it still fits (VerifyOptions).
+//! Reads, repairs (with Repair::safe) and verifies only (InputError on a bad surface; when a
+//! repair changed the surface, the message says so, since its ids are then of the repaired
+//! surface). `search_tree`, if given, receives the verification's search tree over
+//! result.input when it still fits (VerifyOptions).
 PipelineResult read_and_verify(const std::string& input_path, Progress& progress,
-                               std::unique_ptr<TriangleBvh>* search_tree = nullptr);
+                               std::unique_ptr<TriangleBvh>* search_tree = nullptr,
+                               PipelineOptions::Repair repair = PipelineOptions::Repair::safe);
 
 //! Runs every stage. Throws InputError (bad input) or MeshingError (a stage failed).
 PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions& options, Progress& progress);

@@ -391,6 +391,37 @@ std::string describe(const StageReport& report) {
   return std::visit([](const auto& r) { return text(r); }, report);
 }
 
+std::string describe(const SurfaceRepairReport& r) {
+  auto plural = [](size_t n, const char* one, const char* many) { return std::to_string(n) + " " + (n == 1 ? one : many); };
+  auto ids = [](const std::vector<int>& first, size_t count) {
+    std::string list;
+    for (size_t k = 0; k < first.size(); ++k) list += (k ? ", " : "") + std::to_string(first[k]);
+    return list + (count > first.size() ? ", ..." : "");
+  };
+  std::ostringstream out;
+  out.precision(10);
+  const MergeCoincidentVerticesReport& m = r.merge;
+  if (m.vertices_merged) {
+    out << "  repaired: " << plural(m.vertices_merged, "coincident vertex", "coincident vertices")
+        << " merged onto an earlier one (first: " << m.first_merged[0] << " onto " << m.first_kept[0] << " at ("
+        << m.first_places[0].x() << ", " << m.first_places[0].y() << ", " << m.first_places[0].z() << "))\n";
+  }
+  const RemoveRedundantTrianglesReport& d = r.redundant;
+  if (d.collapsed_removed + d.duplicates_removed) {
+    out << "  repaired: ";
+    if (d.collapsed_removed) out << plural(d.collapsed_removed, "collapsed triangle", "collapsed triangles");
+    if (d.collapsed_removed && d.duplicates_removed) out << " and ";
+    if (d.duplicates_removed) out << plural(d.duplicates_removed, "duplicate triangle", "duplicate triangles");
+    out << " removed (first: " << ids(d.first_removed, d.collapsed_removed + d.duplicates_removed) << ")\n";
+  }
+  const RepairOrientationReport& o = r.orientation;
+  if (o.triangles_turned)
+    out << "  repaired: " << plural(o.triangles_turned, "triangle", "triangles") << " turned to match "
+        << (o.triangles_turned == 1 ? "its" : "their") << " neighbours (first: " << ids(o.first_turned, o.triangles_turned)
+        << ")\n";
+  return out.str();
+}
+
 std::string describe(const ThicknessRetryReport& r) {
   if (!r.ran) return "";
   const char* counted = r.remeshed_input ? " vertices of the remeshed input" : " input vertices";
@@ -414,6 +445,7 @@ std::string summary_table(const PipelineResult& r, const PipelineOptions& o) {
   else
     out << " (eps " << r.eps << ", dice " << o.dice << (o.project ? "" : ", not projected") << ")";
   out << "\n";
+  out << describe(r.repairs);
   out << "  stage                  seconds  result\n";
   for (const auto& s : r.stages) {
     // The detail is appended, not formatted into the buffer: a long one lost its end and
@@ -477,10 +509,22 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
   j["tool"] = "om_dthex";
   j["version"] = DTHEX_VERSION;
   j["input"] = {{"path", r.input_path}, {"surface", surface_json(r.input_summary)}};
+  // What the safe repairs did (PipelineOptions::repair): counts, and the first ids.
+  j["input"]["repairs"] = {{"ran", r.repairs.ran},
+                           {"vertices_merged", r.repairs.merge.vertices_merged},
+                           {"first_merged_vertices", r.repairs.merge.first_merged},
+                           {"collapsed_triangles_removed", r.repairs.redundant.collapsed_removed},
+                           {"duplicate_triangles_removed", r.repairs.redundant.duplicates_removed},
+                           {"first_removed_triangles", r.repairs.redundant.first_removed},
+                           {"redundant_triangles_left", r.repairs.redundant.left_in_place},
+                           {"triangles_turned", r.repairs.orientation.triangles_turned},
+                           {"components_with_turned_triangles", r.repairs.orientation.components_repaired},
+                           {"first_turned_triangles", r.repairs.orientation.first_turned}};
   // The surface the coarsening started from, when the input was remeshed first.
   if (!r.remeshed.triangles.empty())
     j["input"]["remeshed"] = {{"vertices", r.remeshed.points.size()}, {"triangles", r.remeshed.triangles.size()}};
-  j["options"] = {{"eps", r.eps},
+  j["options"] = {{"repair", o.repair == PipelineOptions::Repair::none ? "none" : "safe"},
+                  {"eps", r.eps},
                   {"target_nodes", o.target_nodes},
                   {"dice", o.dice},
                   {"h_min", o.h_min},

@@ -17,6 +17,10 @@ std::string describe(const StageReport& report);
 //! spaces); "" when it did not run.
 std::string describe(const ThicknessRetryReport& report);
 
+//! What the safe repairs of the input did: a line "  repaired: ..." for each repair that
+//! changed something (counts and the first ids), "" when none did.
+std::string describe(const SurfaceRepairReport& report);
+
 //! The paper-style summary: per stage time and counts, then quality of the input
 //! triangles, the coarse triangles, the tets and the hexes, and the distance to the input.
 std::string summary_table(const PipelineResult& result, const PipelineOptions& options);

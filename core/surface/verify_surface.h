@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
-// Verification of an input surface before meshing: TetGen and the projection stage need
-// a closed, manifold, consistently oriented, non-self-intersecting surface, and they fail
-// late and obscurely otherwise. Here the first broken rule is reported with ids and
-// coordinates, and harmless defects (inward orientation, unused vertices) are repaired.
+// Verifies a surface and also changes it: turns whole components to face outward and drops
+// unused vertices. TetGen and the projection stage need a closed, manifold, consistently
+// oriented, non-self-intersecting surface, and they fail late and obscurely otherwise. Here
+// the first broken rule is reported with ids and coordinates. The repairs of defects within
+// a component (coincident vertices, duplicate triangles, reversed triangles) come before it,
+// in repair_surface.h.
 #pragma once
 
 #include <dthex/mesh/quality.h>

@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: MIT
-// libFuzzer target: verify_surface on arbitrary small indexed surfaces. Points come
+// libFuzzer target: the safe repairs (repair_surface, unless a flag byte turns them off, as
+// --repair none) and verify_surface on arbitrary small indexed surfaces. Points come
 // from a small integer grid (so coincidences, touching and crossing triangles are
 // frequent) or, when a flag byte says so, raw doubles (NaN, inf, huge, denormal).
 // Verification may refuse (InputError) but must never crash or throw anything else, and
 // what it accepts must satisfy its promises: indices in range, every edge shared by
 // exactly two triangles, positive enclosed volume (when self-intersections are checked).
+// The repairs must never crash, and never turn a surface that verifies into one that does not.
+#include <dthex/surface/repair_surface.h>
 #include <dthex/surface/verify_surface.h>
 
 #include <cstdint>
@@ -49,6 +52,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   dthex::VerifyOptions options;
   options.check_self_intersections = !(flags & 4);
+  const bool repair = !(flags & 8);
+  const dthex::TriSurface given = surface;
+  if (repair) {
+    const dthex::SurfaceRepairReport report = dthex::repair_surface(surface);
+    if (surface.points.size() != given.points.size()) std::abort();  // repairs renumber no vertex
+    if (surface.triangles.size() + report.redundant.collapsed_removed + report.redundant.duplicates_removed !=
+        given.triangles.size())
+      std::abort();
+  }
   try {
     const dthex::SurfaceStats stats = dthex::verify_surface(surface, "fuzz", options);
     std::map<std::pair<int, int>, int> edge_uses;
@@ -64,6 +76,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     // one may count as the other's cavity: the net volume promise needs the check.
     if (options.check_self_intersections && !(stats.volume > 0)) std::abort();
   } catch (const dthex::InputError&) {
+    // With self-intersections checked, a valid surface has no coincident vertices in use, so
+    // the repairs cannot have made it invalid: the surface as given must be refused too.
+    if (repair && options.check_self_intersections) {
+      dthex::TriSurface copy = given;
+      try {
+        dthex::verify_surface(copy, "fuzz", options);
+        std::abort();
+      } catch (const dthex::InputError&) {
+      }
+    }
   }
   return 0;
 }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <dthex/io/read_surface.h>
 #include <dthex/pipeline/pipeline.h>
 #include "subprocess_util.h"
 
@@ -284,4 +285,87 @@ TEST(Cli, UnwritableOutputFolderIsExit2NamingTheOption) {
     EXPECT_NE(r.err.find("not writable"), std::string::npos) << c.args << ": " << r.err;
   }
   EXPECT_EQ(entries_in(dir), 0u);
+}
+
+namespace {
+
+std::string off_text(const dthex::TriSurface& s) {
+  std::ostringstream out;
+  out.precision(17);
+  out << "OFF\n" << s.points.size() << " " << s.triangles.size() << " 0\n";
+  for (const auto& p : s.points) out << p.x() << " " << p.y() << " " << p.z() << "\n";
+  for (const auto& t : s.triangles) out << "3 " << t[0] << " " << t[1] << " " << t[2] << "\n";
+  return out.str();
+}
+
+}  // namespace
+
+// --repair safe (the default): a sphere with one triangle wound the wrong way, and the sphere
+// as an OBJ with every vertex written three times (triangle t using copy t mod 3 of its
+// corners), mesh exactly like the sphere itself, and the summary and report say what was
+// repaired; --repair none refuses the flipped one as before.
+TEST(Cli, SafeRepairsMeshLikeTheCleanFileAndNoneRefuses) {
+  const fs::path dir = scratch("repair");
+  const dthex::TriSurface sphere = dthex::read_surface(mesh("sphere728.off"));
+  dthex::TriSurface flipped = sphere;
+  std::swap(flipped.triangles[366][1], flipped.triangles[366][2]);
+  write_bytes(dir / "flipped.off", off_text(flipped));
+  std::ostringstream obj;
+  obj.precision(17);
+  for (const auto& p : sphere.points)
+    for (int copy = 0; copy < 3; ++copy) obj << "v " << p.x() << " " << p.y() << " " << p.z() << "\n";
+  for (size_t t = 0; t < sphere.triangles.size(); ++t) {
+    obj << "f";
+    for (int v : sphere.triangles[t]) obj << " " << 3 * v + int(t % 3) + 1;
+    obj << "\n";
+  }
+  write_bytes(dir / "tripled.obj", obj.str());
+
+  auto run = [&](const std::string& input, const std::string& name) {
+    return om_dthex(input + " -o " + (dir / (name + ".vtu")).string() + " --coarse-surface " +
+                        (dir / (name + "_coarse.off")).string() + " --report " + (dir / (name + ".json")).string(),
+                    dir);
+  };
+  const CommandRun clean = run(mesh("sphere728.off"), "clean");
+  ASSERT_EQ(clean.exit_code, 0) << clean.err;
+  EXPECT_EQ(clean.out.find("repaired"), std::string::npos) << clean.out;
+  const nlohmann::json clean_report = nlohmann::json::parse(read_bytes(dir / "clean.json"));
+  EXPECT_EQ(clean_report["input"]["repairs"]["triangles_turned"].get<size_t>(), 0u);
+  EXPECT_EQ(clean_report["options"]["repair"].get<std::string>(), "safe");
+
+  const CommandRun turned = run((dir / "flipped.off").string(), "flipped");
+  ASSERT_EQ(turned.exit_code, 0) << turned.err;
+  EXPECT_NE(turned.out.find("repaired: 1 triangle turned to match its neighbours (first: 366)"), std::string::npos)
+      << turned.out;
+  const nlohmann::json turned_report = nlohmann::json::parse(read_bytes(dir / "flipped.json"));
+  EXPECT_EQ(turned_report["input"]["repairs"]["triangles_turned"].get<size_t>(), 1u);
+  EXPECT_EQ(turned_report["input"]["repairs"]["first_turned_triangles"][0].get<int>(), 366);
+  EXPECT_EQ(read_bytes(dir / "flipped_coarse.off"), read_bytes(dir / "clean_coarse.off"));
+  EXPECT_EQ(turned_report["hex"]["hexes"], clean_report["hex"]["hexes"]);
+
+  const CommandRun merged = run((dir / "tripled.obj").string(), "tripled");
+  ASSERT_EQ(merged.exit_code, 0) << merged.err;
+  const std::string count = std::to_string(2 * sphere.points.size());
+  EXPECT_NE(merged.out.find("repaired: " + count + " coincident vertices merged"), std::string::npos) << merged.out;
+  const nlohmann::json merged_report = nlohmann::json::parse(read_bytes(dir / "tripled.json"));
+  EXPECT_EQ(merged_report["input"]["repairs"]["vertices_merged"].get<size_t>(), 2 * sphere.points.size());
+  EXPECT_EQ(merged_report["input"]["surface"]["vertices"].get<size_t>(), sphere.points.size());
+  EXPECT_EQ(read_bytes(dir / "tripled_coarse.off"), read_bytes(dir / "clean_coarse.off"));
+  EXPECT_EQ(merged_report["hex"]["hexes"], clean_report["hex"]["hexes"]);
+  EXPECT_EQ(read_bytes(dir / "tripled.vtu"), read_bytes(dir / "clean.vtu"));
+
+  // --repair none: refused as before, nothing written.
+  const fs::path none_dir = scratch("repair_none");
+  const CommandRun refused = om_dthex((dir / "flipped.off").string() + " --repair none -o " + (none_dir / "o.vtu").string(), none_dir);
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("inconsistent orientation: triangles "), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("366"), std::string::npos) << refused.err;
+  EXPECT_EQ(entries_in(none_dir), 0u);
+  const CommandRun verify_only = om_dthex((dir / "tripled.obj").string() + " --verify-only", dir);
+  EXPECT_EQ(verify_only.exit_code, 0) << verify_only.err;
+  EXPECT_NE(verify_only.out.find("repaired: " + count + " coincident vertices merged"), std::string::npos)
+      << verify_only.out;
+  EXPECT_NE(verify_only.out.find(std::to_string(sphere.points.size()) + " vertices"), std::string::npos) << verify_only.out;
+  fs::remove_all(dir);
+  fs::remove_all(none_dir);
 }

@@ -23,6 +23,8 @@ struct HostileCase {
   std::function<void(const fs::path& input)> make;  //!< creates the input
   int exit_code;
   std::string message;   //!< a phrase the error message must contain ("" for valid inputs)
+  std::string options = "";  //!< extra command-line options (--repair none for the refusals safe repair fixes)
+  std::string repaired = "";  //!< for a valid input the safe repairs fix: the input.repairs count that must be 1
 };
 
 void PrintTo(const HostileCase& c, std::ostream* os) { *os << c.name; }
@@ -63,6 +65,22 @@ std::vector<HostileCase> catalogue() {
         for (int w = 0; w < 8; ++w)
           if (v >= 8 && s->points[size_t(v)] == s->points[size_t(w)]) v = w;
   }
+  // Two tetrahedra glued on a face, each written whole: the shared face twice, and removing
+  // either copy leaves its edges on three triangles, so no safe repair applies.
+  Surface glued;
+  glued.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 0, -1}};
+  glued.triangles = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}, {0, 1, 2}, {0, 4, 1}, {1, 4, 2}, {2, 4, 0}};
+  // An OBJ soup (every triangle its own corners) of the cube with a triangle missing: merged
+  // by the safe repair, and still open.
+  std::string open_soup;
+  const Surface unit = cube();
+  for (size_t t = 0; t + 1 < unit.triangles.size(); ++t)
+    for (int v : unit.triangles[t]) {
+      const auto& p = unit.points[size_t(v)];
+      open_soup += "v " + std::to_string(p[0]) + " " + std::to_string(p[1]) + " " + std::to_string(p[2]) + "\n";
+    }
+  for (size_t t = 0; t + 1 < unit.triangles.size(); ++t)
+    open_soup += "f " + std::to_string(3 * t + 1) + " " + std::to_string(3 * t + 2) + " " + std::to_string(3 * t + 3) + "\n";
   Surface degenerate = cube();
   degenerate.points.push_back({0.5, 0, 0});  // on the edge 0-1: a zero-area sliver
   degenerate.triangles.push_back({0, 1, 8});
@@ -93,8 +111,10 @@ std::vector<HostileCase> catalogue() {
       {"SingleTriangle", "single.obj", bytes("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"), 2, "open"},
       {"NonManifoldEdge", "edge.off", bytes(off_text(edge_pair)), 2, "non-manifold edge"},
       {"NonManifoldVertex", "vertex.off", bytes(off_text(corner_pair)), 2, "non-manifold vertex"},
-      {"DuplicateFace", "duplicate.off", bytes(off_text(duplicate)), 2, "duplicate"},
-      {"InconsistentOrientation", "orient.off", bytes(off_text(inconsistent)), 2, "orientation"},
+      {"DuplicateFace", "duplicate.off", bytes(off_text(duplicate)), 2, "duplicate", "--repair none"},
+      {"DuplicateFaceBetweenBodies", "glued.off", bytes(off_text(glued)), 2, "duplicate triangles"},
+      {"InconsistentOrientation", "orient.off", bytes(off_text(inconsistent)), 2, "orientation", "--repair none"},
+      {"OpenSoupObj", "soup.obj", bytes(open_soup), 2, "open boundary edge"},
       {"DegenerateSliver", "sliver.off", bytes(off_text(degenerate)), 2, "degenerate"},
       {"InterpenetratingCubes", "crossing.off", bytes(off_text(join(cube(), cube(0.5, 0.5, 0.5)))), 2, "self-intersection"},
       {"TruncatedBinaryStl", "truncated.stl", bytes(binary_cube.substr(0, binary_cube.size() - 20)), 2, "truncated"},
@@ -123,6 +143,8 @@ std::vector<HostileCase> catalogue() {
       {"NamedPipe", "pipe.off", [](const fs::path& p) { ::mkfifo(p.c_str(), 0600); }, 2, "not a regular file"},
       {"OnlyComments", "comments.off", bytes("# nothing\n# here\n"), 2, "only comments"},
       // Valid but tricky: each must mesh.
+      {"DuplicateFaceRepaired", "duplicate.off", bytes(off_text(duplicate)), 0, "", "", "duplicate_triangles_removed"},
+      {"InconsistentOrientationRepaired", "orient.off", bytes(off_text(inconsistent)), 0, "", "", "triangles_turned"},
       {"InwardCube", "inward.off", bytes(off_text(reversed(cube()))), 0, ""},
       {"TwoDisjointCubes", "two.off", bytes(off_text(join(cube(), cube(3, 0, 0)))), 0, ""},
       {"CubeWithCavity", "cavity.off", bytes(off_text(join(cube(0, 0, 0, 3), cube(1, 1, 1, 1)))), 0, ""},
@@ -148,7 +170,7 @@ TEST_P(HostileInput, RightExitCodeMessageAndNoOutput) {
   const fs::path input = in / c.file;
   c.make(input);
   const CommandRun r = run_om_dthex(input.string() + " -q --time-limit 30 -o " + (out / "o.vtu").string() + " --report " +
-                                 (out / "r.json").string(),
+                                 (out / "r.json").string() + " " + c.options,
                              dir);
   EXPECT_EQ(r.exit_code, c.exit_code) << r.err;
   if (c.exit_code != 0) {
@@ -162,6 +184,7 @@ TEST_P(HostileInput, RightExitCodeMessageAndNoOutput) {
     const nlohmann::json report = nlohmann::json::parse(read_bytes(out / "r.json"));
     EXPECT_GT(report["hex"]["hexes"].get<size_t>(), 0u);
     EXPECT_TRUE(report["hex"]["conforming"].get<bool>());
+    if (!c.repaired.empty()) EXPECT_EQ(report["input"]["repairs"][c.repaired].get<size_t>(), 1u);
   }
   fs::remove_all(dir);
 }
