@@ -112,7 +112,7 @@ int run(CommandLine& cl) {
   progress.set_every_stage(cl.verbose);
 
   if (cl.verify_only) {
-    const dthex::PipelineResult r = dthex::read_and_verify(cl.input, progress, nullptr, cl.pipeline.repair);
+    const dthex::PipelineResult r = dthex::read_and_verify(cl.input, progress, nullptr, cl.pipeline);
     if (!cl.quiet) {
       std::fputs(dthex::describe(r.repairs).c_str(), stdout);
       const auto& s = r.input_summary;
@@ -236,6 +236,10 @@ int main(int argc, char** argv) {
                  "component, the minority). none: refuse every defect as found, ids as in the file")
       ->default_val("safe")
       ->check(CLI::IsMember({"safe", "none"}));
+  app.add_option("--min-island", cl.pipeline.min_island_triangles,
+                 "with --repair safe, also drop islands (parts joined through shared vertices) of fewer than N\n"
+                 "triangles, such as a segmentation's noise voxels; the largest part is always kept. 0 (default): none")
+      ->default_val(0);
   std::string remesh = "auto";
   app.add_option("--remesh", remesh,
                  "remesh the input with even triangles before coarsening (split, collapse, flip, relax; feature lines\n"
@@ -295,6 +299,8 @@ int main(int argc, char** argv) {
     cl.pipeline.thickness_retry = thickness_ratio == "auto";
     cl.pipeline.thickness_ratio = cl.pipeline.thickness_retry ? 0.0 : std::stod(thickness_ratio);
     cl.pipeline.repair = repair == "none" ? dthex::PipelineOptions::Repair::none : dthex::PipelineOptions::Repair::safe;
+    if (cl.pipeline.repair == dthex::PipelineOptions::Repair::none && cl.pipeline.min_island_triangles > 0)
+      throw CLI::ValidationError("--min-island", "drops triangles, a repair: it needs --repair safe, not none");
     cl.pipeline.remesh = remesh == "on"    ? dthex::PipelineOptions::Remesh::always
                          : remesh == "off" ? dthex::PipelineOptions::Remesh::never
                                            : dthex::PipelineOptions::Remesh::automatic;

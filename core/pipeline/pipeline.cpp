@@ -212,14 +212,18 @@ std::string tetgen_switches_for(const PipelineOptions& options) {
 }
 
 PipelineResult read_and_verify(const std::string& input_path, Progress& progress,
-                               std::unique_ptr<TriangleBvh>* search_tree, PipelineOptions::Repair repair) {
+                               std::unique_ptr<TriangleBvh>* search_tree, const PipelineOptions& options) {
   PipelineResult result;
   result.input_path = input_path;
   timed_stage(result, progress, "read", [&] {
     result.input = read_surface(input_path);
     return ReadReport{result.input.points.size(), result.input.triangles.size()};
   });
-  if (repair == PipelineOptions::Repair::safe) result.repairs = repair_surface(result.input);
+  if (options.repair == PipelineOptions::Repair::safe) {
+    SurfaceRepairOptions repair_options;
+    repair_options.islands.min_triangles = options.min_island_triangles;
+    result.repairs = repair_surface(result.input, repair_options);
+  }
   timed_stage(result, progress, "verify", [&] {
     VerifyOptions verify_options;
     verify_options.search_tree = search_tree;
@@ -621,7 +625,7 @@ void check_strict(const PipelineResult& result, const PipelineOptions& options) 
 PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions& options, Progress& progress) {
   const auto start = Clock::now();
   std::unique_ptr<TriangleBvh> input_tree;
-  PipelineResult result = read_and_verify(input_path, progress, &input_tree, options.repair);
+  PipelineResult result = read_and_verify(input_path, progress, &input_tree, options);
   if (!input_tree) input_tree = std::make_unique<TriangleBvh>(result.input);
   const TriangleBvh& input_bvh = *input_tree;
   remesh_if_needed(result, input_bvh, options, progress);

@@ -24,6 +24,10 @@ struct PipelineOptions {
   //! triangles removed, orientation made consistent); none = every defect is refused.
   enum class Repair { safe, none };
   Repair repair = Repair::safe;
+  //! With Repair::safe, islands (triangles joined through shared vertices) of fewer triangles
+  //! than this are dropped, the largest always kept (remove_small_islands.h); 0 = none. Off by
+  //! default: unlike the safe repairs it removes geometry, such as a segmentation's noise voxels.
+  size_t min_island_triangles = 0;
   double eps = 0.1;                 //!< coarsening factor (sagitta / radius), in (0, 1)
   int dice = 2;                     //!< each hex into dice^3
   double h_min = 0;                 //!< smallest coarse edge size, input units; 0 = automatic
@@ -121,9 +125,10 @@ std::string tetgen_switches_for(const PipelineOptions& options);
 //! repair changed the surface, the message says so, since its ids are then of the repaired
 //! surface). `search_tree`, if given, receives the verification's search tree over
 //! result.input when it still fits (VerifyOptions).
+//! Only options.repair and options.min_island_triangles are read.
 PipelineResult read_and_verify(const std::string& input_path, Progress& progress,
                                std::unique_ptr<TriangleBvh>* search_tree = nullptr,
-                               PipelineOptions::Repair repair = PipelineOptions::Repair::safe);
+                               const PipelineOptions& options = PipelineOptions());
 
 //! Runs every stage. Throws InputError (bad input) or MeshingError (a stage failed).
 PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions& options, Progress& progress);

@@ -406,6 +406,13 @@ std::string describe(const SurfaceRepairReport& r) {
         << " merged onto an earlier one (first: " << m.first_merged[0] << " onto " << m.first_kept[0] << " at ("
         << m.first_places[0].x() << ", " << m.first_places[0].y() << ", " << m.first_places[0].z() << "))\n";
   }
+  const RemoveSmallIslandsReport& i = r.islands;
+  if (i.islands_dropped) {
+    out << "  repaired: " << plural(i.islands_dropped, "island", "islands") << " ("
+        << plural(i.triangles_dropped, "triangle", "triangles") << ") dropped, below --min-island (first: triangle "
+        << i.first_triangles[0] << " near (" << i.first_places[0].x() << ", " << i.first_places[0].y() << ", "
+        << i.first_places[0].z() << "))\n";
+  }
   const RemoveRedundantTrianglesReport& d = r.redundant;
   if (d.collapsed_removed + d.duplicates_removed) {
     out << "  repaired: ";
@@ -513,6 +520,9 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
   j["input"]["repairs"] = {{"ran", r.repairs.ran},
                            {"vertices_merged", r.repairs.merge.vertices_merged},
                            {"first_merged_vertices", r.repairs.merge.first_merged},
+                           {"islands_dropped", r.repairs.islands.islands_dropped},
+                           {"island_triangles_dropped", r.repairs.islands.triangles_dropped},
+                           {"first_island_triangles", r.repairs.islands.first_triangles},
                            {"collapsed_triangles_removed", r.repairs.redundant.collapsed_removed},
                            {"duplicate_triangles_removed", r.repairs.redundant.duplicates_removed},
                            {"first_removed_triangles", r.repairs.redundant.first_removed},
@@ -524,6 +534,7 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
   if (!r.remeshed.triangles.empty())
     j["input"]["remeshed"] = {{"vertices", r.remeshed.points.size()}, {"triangles", r.remeshed.triangles.size()}};
   j["options"] = {{"repair", o.repair == PipelineOptions::Repair::none ? "none" : "safe"},
+                  {"min_island", o.min_island_triangles},
                   {"eps", r.eps},
                   {"target_nodes", o.target_nodes},
                   {"dice", o.dice},

@@ -7,6 +7,7 @@ SurfaceRepairReport repair_surface(TriSurface& surface, const SurfaceRepairOptio
   SurfaceRepairReport report;
   report.ran = true;
   report.merge = merge_coincident_vertices(surface, options.merge);
+  report.islands = remove_small_islands(surface, options.islands);
   report.redundant = remove_redundant_triangles(surface, options.redundant);
   report.orientation = repair_orientation(surface, options.orientation);
   return report;

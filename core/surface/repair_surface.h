@@ -7,12 +7,14 @@
 #include <dthex/mesh/types.h>
 #include <dthex/surface/merge_coincident_vertices.h>
 #include <dthex/surface/remove_redundant_triangles.h>
+#include <dthex/surface/remove_small_islands.h>
 #include <dthex/surface/repair_orientation.h>
 
 namespace dthex {
 
 struct SurfaceRepairOptions {
   MergeCoincidentVerticesOptions merge;
+  RemoveSmallIslandsOptions islands;  //!< off by default (min_triangles 0): it removes geometry
   RemoveRedundantTrianglesOptions redundant;
   RepairOrientationOptions orientation;
 };
@@ -20,18 +22,22 @@ struct SurfaceRepairOptions {
 struct SurfaceRepairReport {
   bool ran = false;  //!< false with --repair none
   MergeCoincidentVerticesReport merge;
+  RemoveSmallIslandsReport islands;
   RemoveRedundantTrianglesReport redundant;
   RepairOrientationReport orientation;
   //! Did any repair change the surface?
   bool changed() const {
-    return merge.vertices_merged + redundant.collapsed_removed + redundant.duplicates_removed +
+    return merge.vertices_merged + islands.triangles_dropped + redundant.collapsed_removed + redundant.duplicates_removed +
                orientation.triangles_turned >
            0;
   }
 };
 
-//! Merges coincident vertices (merge_coincident_vertices.h), then removes the collapsed and
-//! duplicate triangles where the surface stays closed and manifold
+//! Merges coincident vertices (merge_coincident_vertices.h), drops the islands below
+//! options.islands.min_triangles if set (remove_small_islands.h: after the merge, so that a
+//! soup's triangles are one island, and before the next step, whose closed-surface test a
+//! noise island must not fail), then removes the collapsed and duplicate triangles where the
+//! surface stays closed and manifold
 //! (remove_redundant_triangles.h), then makes each component's orientation consistent
 //! (repair_orientation.h). Vertex ids are kept (merged vertices are left unused); triangle
 //! ids shift only when triangles were removed.

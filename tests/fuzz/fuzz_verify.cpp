@@ -6,7 +6,8 @@
 // Verification may refuse (InputError) but must never crash or throw anything else, and
 // what it accepts must satisfy its promises: indices in range, every edge shared by
 // exactly two triangles, positive enclosed volume (when self-intersections are checked).
-// The repairs must never crash, and never turn a surface that verifies into one that does not.
+// The repairs (with --min-island when a flag bit says so) must never crash, and never turn a
+// surface that verifies into one that does not.
 #include <dthex/surface/repair_surface.h>
 #include <dthex/surface/verify_surface.h>
 
@@ -55,9 +56,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const bool repair = !(flags & 8);
   const dthex::TriSurface given = surface;
   if (repair) {
-    const dthex::SurfaceRepairReport report = dthex::repair_surface(surface);
+    dthex::SurfaceRepairOptions repair_options;
+    if (flags & 16) repair_options.islands.min_triangles = 1 + flags / 32;  // --min-island 1..8
+    const dthex::SurfaceRepairReport report = dthex::repair_surface(surface, repair_options);
     if (surface.points.size() != given.points.size()) std::abort();  // repairs renumber no vertex
-    if (surface.triangles.size() + report.redundant.collapsed_removed + report.redundant.duplicates_removed !=
+    if (surface.triangles.size() + report.islands.triangles_dropped + report.redundant.collapsed_removed +
+            report.redundant.duplicates_removed !=
         given.triangles.size())
       std::abort();
   }

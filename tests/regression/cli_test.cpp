@@ -43,7 +43,8 @@ TEST(Cli, HelpExplainsEveryOption) {
   const CommandRun r = om_dthex("--help", dir);
   EXPECT_EQ(r.exit_code, 0);
   for (const char* option : {"--output", "--eps", "--dice", "--hmax", "--thickness-ratio", "--thex-only", "--no-project", "--strict",
-                             "--tetgen", "--time-limit", "--report", "--coarse-surface", "--quiet", "--verbose"})
+                             "--tetgen", "--time-limit", "--report", "--coarse-surface", "--quiet", "--verbose", "--repair",
+                             "--min-island"})
     EXPECT_NE(r.out.find(option), std::string::npos) << option;
 }
 
@@ -368,4 +369,37 @@ TEST(Cli, SafeRepairsMeshLikeTheCleanFileAndNoneRefuses) {
   EXPECT_NE(verify_only.out.find(std::to_string(sphere.points.size()) + " vertices"), std::string::npos) << verify_only.out;
   fs::remove_all(dir);
   fs::remove_all(none_dir);
+}
+
+// --min-island N drops the islands of fewer than N triangles (off by default), and needs
+// --repair safe.
+TEST(Cli, MinIslandDropsANoiseIslandBesideTheSphere) {
+  const fs::path dir = scratch("island");
+  dthex::TriSurface s = dthex::read_surface(mesh("sphere728.off"));
+  const int base = int(s.points.size());
+  for (int k = 0; k < 5; ++k) s.points.push_back(dthex::Vec3(5 + 0.1 * std::cos(2 * M_PI * k / 5), 0.1 * std::sin(2 * M_PI * k / 5), 0));
+  s.points.push_back(dthex::Vec3(5, 0, 0.1));
+  s.points.push_back(dthex::Vec3(5, 0, -0.1));
+  for (int k = 0; k < 5; ++k) {
+    s.triangles.push_back({base + k, base + (k + 1) % 5, base + 5});
+    s.triangles.push_back({base + (k + 1) % 5, base + k, base + 6});
+  }
+  write_bytes(dir / "island.off", off_text(s));
+  const std::string input = (dir / "island.off").string();
+  const CommandRun kept = om_dthex(input + " --verify-only", dir);
+  ASSERT_EQ(kept.exit_code, 0) << kept.err;
+  EXPECT_NE(kept.out.find("2 component(s)"), std::string::npos) << kept.out;
+  EXPECT_EQ(kept.out.find("repaired"), std::string::npos) << kept.out;
+  const CommandRun dropped = om_dthex(input + " --verify-only --min-island 11", dir);
+  ASSERT_EQ(dropped.exit_code, 0) << dropped.err;
+  EXPECT_NE(dropped.out.find("repaired: 1 island (10 triangles) dropped, below --min-island (first: triangle 728 near (5."),
+            std::string::npos)
+      << dropped.out;
+  EXPECT_NE(dropped.out.find("728 triangles, 1 component(s)"), std::string::npos) << dropped.out;
+  const CommandRun at_ten = om_dthex(input + " --verify-only --min-island 10", dir);
+  EXPECT_NE(at_ten.out.find("2 component(s)"), std::string::npos) << at_ten.out;
+  const CommandRun none = om_dthex(input + " --verify-only --repair none --min-island 11", dir);
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.err.find("--min-island"), std::string::npos) << none.err;
+  fs::remove_all(dir);
 }
