@@ -3,8 +3,8 @@
 // Exit codes: 0 success; 2 bad input or usage, or an output that cannot be written
 // (missing or unwritable folder, a directory, disk full, file-size limit); 3 meshing
 // failed; 1 internal error; 128 + N when stopped by signal N (130 for Ctrl-C).
-#include <dthex/io/atomic_file.h>
 #include <dthex/hexes/mesh_sets.h>
+#include <dthex/io/atomic_file.h>
 #include <dthex/io/write_hex_mesh.h>
 #include <dthex/io/write_surface.h>
 #include <dthex/pipeline/pipeline.h>

@@ -11,7 +11,7 @@
 #include <dthex/mesh/types.h>
 #include <dthex/pipeline/progress.h>
 #include <dthex/pipeline/stage_reports.h>
-#include <dthex/surface/repair_surface.h>
+#include <dthex/repair/repair_surface.h>
 
 #include <memory>
 #include <string>

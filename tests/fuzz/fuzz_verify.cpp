@@ -8,7 +8,7 @@
 // exactly two triangles, positive enclosed volume (when self-intersections are checked).
 // The repairs (with --min-island when a flag bit says so) must never crash, and never turn a
 // surface that verifies into one that does not.
-#include <dthex/surface/repair_surface.h>
+#include <dthex/repair/repair_surface.h>
 #include <dthex/surface/verify_surface.h>
 
 #include <cstdint>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include <dthex/surface/merge_coincident_vertices.h>
+#include <dthex/repair/merge_coincident_vertices.h>
 
 #include <algorithm>
 #include <numeric>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include <dthex/surface/remove_small_islands.h>
+#include <dthex/repair/remove_small_islands.h>
 
 #include <algorithm>
 #include <numeric>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/io/read_surface.h>
-#include <dthex/surface/remove_small_islands.h>
+#include <dthex/repair/remove_small_islands.h>
 #include <dthex/surface/verify_surface.h>
 
 #include <gtest/gtest.h>

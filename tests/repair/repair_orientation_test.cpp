@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/io/read_surface.h>
-#include <dthex/surface/repair_orientation.h>
+#include <dthex/repair/repair_orientation.h>
 #include <dthex/surface/verify_surface.h>
 
 #include <gtest/gtest.h>

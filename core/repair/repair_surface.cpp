@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include <dthex/surface/repair_surface.h>
+#include <dthex/repair/repair_surface.h>
 
 namespace dthex {
 

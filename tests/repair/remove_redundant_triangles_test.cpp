@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include <dthex/surface/remove_redundant_triangles.h>
+#include <dthex/repair/remove_redundant_triangles.h>
 #include <dthex/surface/verify_surface.h>
 
 #include <gtest/gtest.h>

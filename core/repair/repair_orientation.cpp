@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include <dthex/surface/repair_orientation.h>
+#include <dthex/repair/repair_orientation.h>
 
 #include <algorithm>
 #include <cstdint>

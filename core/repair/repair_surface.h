@@ -5,10 +5,10 @@
 #pragma once
 
 #include <dthex/mesh/types.h>
-#include <dthex/surface/merge_coincident_vertices.h>
-#include <dthex/surface/remove_redundant_triangles.h>
-#include <dthex/surface/remove_small_islands.h>
-#include <dthex/surface/repair_orientation.h>
+#include <dthex/repair/merge_coincident_vertices.h>
+#include <dthex/repair/remove_redundant_triangles.h>
+#include <dthex/repair/remove_small_islands.h>
+#include <dthex/repair/repair_orientation.h>
 
 namespace dthex {
 
