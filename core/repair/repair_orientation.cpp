@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/repair/repair_orientation.h>
 
+#include <dthex/mesh/half_edges.h>
+
 #include <algorithm>
 #include <cstdint>
 
@@ -22,20 +24,7 @@ RepairOrientationReport repair_orientation(TriSurface& surface, const RepairOrie
       return report;
     }
   }
-  struct HalfEdge {
-    uint64_t key;  // min << 32 | max
-    int triangle;
-    int from;
-    bool operator<(const HalfEdge& o) const { return key < o.key || (key == o.key && triangle < o.triangle); }
-  };
-  std::vector<HalfEdge> half_edges;
-  half_edges.reserve(size_t(nt) * 3);
-  for (int t = 0; t < nt; ++t)
-    for (int k = 0; k < 3; ++k) {
-      const int a = T[size_t(t)][size_t(k)], b = T[size_t(t)][size_t((k + 1) % 3)];
-      half_edges.push_back({uint64_t(std::min(a, b)) << 32 | uint64_t(std::max(a, b)), t, a});
-    }
-  std::sort(half_edges.begin(), half_edges.end());
+  const std::vector<HalfEdge> half_edges = sorted_half_edges(T);
   for (size_t k = 0; k < half_edges.size(); k += 2)
     if (k + 1 >= half_edges.size() || half_edges[k + 1].key != half_edges[k].key ||
         (k + 2 < half_edges.size() && half_edges[k + 2].key == half_edges[k].key)) {

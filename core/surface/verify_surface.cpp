@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/surface/verify_surface.h>
 
+#include <dthex/mesh/half_edges.h>
 #include <dthex/mesh/triangle_bvh.h>
 
 #include <algorithm>
@@ -190,20 +191,7 @@ SurfaceStats verify_surface(TriSurface& surface, const std::string& name, const 
                                         " use the same three vertices");
   }
   // 6. every edge shared by exactly two triangles
-  struct HalfEdge {
-    uint64_t key;  // min << 32 | max
-    int triangle;
-    int from;
-    bool operator<(const HalfEdge& o) const { return key < o.key || (key == o.key && triangle < o.triangle); }
-  };
-  std::vector<HalfEdge> half_edges;
-  half_edges.reserve(size_t(nt) * 3);
-  for (int t = 0; t < nt; ++t)
-    for (int k = 0; k < 3; ++k) {
-      const int a = T[size_t(t)][size_t(k)], b = T[size_t(t)][size_t((k + 1) % 3)];
-      half_edges.push_back({uint64_t(std::min(a, b)) << 32 | uint64_t(std::max(a, b)), t, a});
-    }
-  std::sort(half_edges.begin(), half_edges.end());
+  const std::vector<HalfEdge> half_edges = sorted_half_edges(T);
   auto edge_text = [&](uint64_t key) {
     const int a = int(key >> 32), b = int(key & 0xffffffffu);
     return "edge (" + describe.vertex(a) + ", " + describe.vertex(b) + ")";
