@@ -3,6 +3,7 @@
 
 #include <dthex/mesh/half_edges.h>
 #include <dthex/mesh/triangle_bvh.h>
+#include <dthex/surface/closest_triangle_pair.h>
 
 #include <algorithm>
 #include <cmath>
@@ -16,6 +17,9 @@ namespace dthex {
 namespace {
 
 using Triangle = std::array<int, 3>;
+
+//! How many holes, intersecting pairs and such a refusal names one by one.
+constexpr size_t kNamedExamples = 5;
 
 struct UnionFind {
   std::vector<int> parent;
@@ -91,7 +95,9 @@ bool point_in_triangle2(const Eigen::Vector2d& p, const Eigen::Vector2d& a, cons
 //! from the signed distances, and the crossing point is tested inside the triangle in the
 //! triangle's dominant 2D projection: unlike sign tests of tetrahedra spanned by pq, this
 //! stays well conditioned when pq lies almost in the plane (flat regions of CAD parts).
-bool segment_meets_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+//! `where`, if given, receives a point they share (in the exactly coplanar case, one near it).
+bool segment_meets_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c,
+                            Vec3* where = nullptr) {
   const double dp = orient(a, b, c, p), dq = orient(a, b, c, q);
   if ((dp > 0 && dq > 0) || (dp < 0 && dq < 0)) return false;
   const Vec3 n = (b - a).cross(c - a);
@@ -102,22 +108,39 @@ bool segment_meets_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const V
   const Eigen::Vector2d A = flat(a), B = flat(b), C = flat(c);
   if (dp != 0 || dq != 0) {
     const double t = dp / (dp - dq);
-    return point_in_triangle2(flat(p + t * (q - p)), A, B, C);
+    const Vec3 crossing = p + t * (q - p);
+    if (where) *where = crossing;
+    return point_in_triangle2(flat(crossing), A, B, C);
   }
   // Exactly coplanar.
   const Eigen::Vector2d P = flat(p), Q = flat(q);
+  if (where) *where = point_in_triangle2(Q, A, B, C) ? q : p;
   if (point_in_triangle2(P, A, B, C) || point_in_triangle2(Q, A, B, C)) return true;
   return segments_intersect2(P, Q, A, B) || segments_intersect2(P, Q, B, C) || segments_intersect2(P, Q, C, A);
 }
 
 //! Closed triangles intersect iff an edge of one meets the other (the intersection, when
 //! not empty, has a point on the boundary of one of them).
-bool triangles_intersect(const std::array<Vec3, 3>& A, const std::array<Vec3, 3>& B) {
+bool triangles_intersect(const std::array<Vec3, 3>& A, const std::array<Vec3, 3>& B, Vec3* where) {
   for (int k = 0; k < 3; ++k)
-    if (segment_meets_triangle(A[size_t(k)], A[size_t((k + 1) % 3)], B[0], B[1], B[2])) return true;
+    if (segment_meets_triangle(A[size_t(k)], A[size_t((k + 1) % 3)], B[0], B[1], B[2], where)) return true;
   for (int k = 0; k < 3; ++k)
-    if (segment_meets_triangle(B[size_t(k)], B[size_t((k + 1) % 3)], A[0], A[1], A[2])) return true;
+    if (segment_meets_triangle(B[size_t(k)], B[size_t((k + 1) % 3)], A[0], A[1], A[2], where)) return true;
   return false;
+}
+
+//! A pair of intersecting triangles (a < b) and a point where they meet.
+struct IntersectingPair {
+  int a = -1, b = -1;
+  Vec3 point = Vec3::Zero();
+  bool operator<(const IntersectingPair& o) const { return std::make_pair(a, b) < std::make_pair(o.a, o.b); }
+};
+
+//! Keeps the kNamedExamples lowest pairs of `pairs` with `pair` added.
+void keep_lowest(std::vector<IntersectingPair>& pairs, const IntersectingPair& pair, size_t count) {
+  if (pairs.size() == count && !(pair < pairs.back())) return;
+  pairs.insert(std::upper_bound(pairs.begin(), pairs.end(), pair), pair);
+  if (pairs.size() > count) pairs.pop_back();
 }
 
 //! Solid angle of triangle abc seen from p, over 4 pi (Van Oosterom and Strackee).
@@ -130,6 +153,46 @@ double winding_contribution(const Vec3& p, const Vec3& a, const Vec3& b, const V
 }
 
 constexpr double kMaxCoordinate = 1e100;
+
+//! The holes of an open surface: its open edges (each on one triangle only) joined through
+//! their vertices into loops, each with its edge count, length and a vertex on it, and the
+//! tools that close them.
+std::string describe_holes(const TriSurface& s, const std::vector<HalfEdge>& half_edges,
+                           const std::vector<size_t>& open_edges) {
+  const Describe describe(s);
+  UnionFind loops(s.points.size());
+  for (size_t k : open_edges) loops.unite(int(half_edges[k].key >> 32), int(half_edges[k].key & 0xffffffffu));
+  struct Hole {
+    size_t edges = 0;
+    double length = 0;
+    int vertex = -1;  // the lowest vertex of its first edge
+  };
+  std::vector<Hole> holes;
+  std::vector<int> hole_of(s.points.size(), -1);
+  for (size_t k : open_edges) {
+    const int a = int(half_edges[k].key >> 32), b = int(half_edges[k].key & 0xffffffffu);
+    int& h = hole_of[size_t(loops.find(a))];
+    if (h < 0) {
+      h = int(holes.size());
+      holes.push_back({0, 0.0, a});
+    }
+    ++holes[size_t(h)].edges;
+    holes[size_t(h)].length += (s.points[size_t(b)] - s.points[size_t(a)]).norm();
+  }
+  std::ostringstream out;
+  out.precision(6);
+  out << holes.size() << (holes.size() == 1 ? " hole" : " holes") << " (loops of open boundary edges, "
+      << open_edges.size() << " edge" << (open_edges.size() == 1 ? "" : "s") << " in all)";
+  for (size_t h = 0; h < std::min(holes.size(), kNamedExamples); ++h)
+    out << (h ? "; " : ": ") << "hole " << h + 1 << " of " << holes[h].edges << " edge" << (holes[h].edges == 1 ? "" : "s")
+        << ", length " << holes[h].length << ", at " << describe.vertex(holes[h].vertex);
+  if (holes.size() > kNamedExamples) out << "; ...";
+  const HalfEdge& first = half_edges[open_edges[0]];
+  out << "; the first open boundary edge (" << describe.vertex(int(first.key >> 32)) << ", "
+      << describe.vertex(int(first.key & 0xffffffffu)) << ") belongs only to triangle " << first.triangle
+      << "; close the holes with MeshLab (Close Holes), PyMeshFix or Blender (Fill Holes) and mesh the closed file";
+  return out.str();
+}
 
 }  // namespace
 
@@ -197,22 +260,23 @@ SurfaceStats verify_surface(TriSurface& surface, const std::string& name, const 
     return "edge (" + describe.vertex(a) + ", " + describe.vertex(b) + ")";
   };
   size_t edge_count = 0;
+  std::vector<size_t> open_edges;  // into half_edges, in key order
+  std::string non_manifold;        // the first edge on three or more triangles
   for (size_t k = 0; k < half_edges.size();) {
     size_t end = k;
     while (end < half_edges.size() && half_edges[end].key == half_edges[k].key) ++end;
     const size_t count = end - k;
-    if (count == 1)
-      refuse("open boundary edge", edge_text(half_edges[k].key) + " belongs only to triangle " +
-                                       std::to_string(half_edges[k].triangle));
-    if (count > 2) {
+    if (count == 1) open_edges.push_back(k);
+    if (count > 2 && non_manifold.empty()) {
       std::string list;
       for (size_t i = k; i < end; ++i) list += (i > k ? ", " : "") + std::to_string(half_edges[i].triangle);
-      refuse("non-manifold edge", edge_text(half_edges[k].key) + " is shared by " + std::to_string(count) +
-                                      " triangles (" + list + ")");
+      non_manifold = edge_text(half_edges[k].key) + " is shared by " + std::to_string(count) + " triangles (" + list + ")";
     }
     ++edge_count;
     k = end;
   }
+  if (!open_edges.empty()) refuse("open surface", describe_holes(surface, half_edges, open_edges));
+  if (!non_manifold.empty()) refuse("non-manifold edge", non_manifold);
   // 7. non-manifold vertices: corners (t, k) around a vertex joined across shared edges must form one fan.
   auto corner_of = [&](int t, int v) {
     const Triangle& tri = T[size_t(t)];
@@ -259,7 +323,8 @@ SurfaceStats verify_surface(TriSurface& surface, const std::string& name, const 
     tree = std::make_unique<TriangleBvh>(surface);
     const TriangleBvh& bvh = *tree;
     // Do triangles a and b (their boxes overlapping) meet anywhere but in what they share?
-    auto pair_intersects = [&](int a, int b) {
+    // If so, `where` receives a point they share.
+    auto pair_intersects = [&](int a, int b, Vec3& where) {
       const Triangle &ta = T[size_t(a)], &tb = T[size_t(b)];
       int shared = 0;
       for (int u : ta)
@@ -268,7 +333,7 @@ SurfaceStats verify_surface(TriSurface& surface, const std::string& name, const 
       const std::array<Vec3, 3> B{P[size_t(tb[0])], P[size_t(tb[1])], P[size_t(tb[2])]};
       bool hit = false;
       if (shared == 0) {
-        hit = triangles_intersect(A, B);
+        hit = triangles_intersect(A, B, &where);
       } else if (shared == 1) {
         // Meeting beyond the shared vertex means an edge opposite it meets the other triangle.
         int ia = 0, ib = 0;
@@ -276,8 +341,8 @@ SurfaceStats verify_surface(TriSurface& surface, const std::string& name, const 
           if (std::find(tb.begin(), tb.end(), ta[size_t(k)]) != tb.end()) ia = k;
           if (std::find(ta.begin(), ta.end(), tb[size_t(k)]) != ta.end()) ib = k;
         }
-        hit = segment_meets_triangle(A[size_t((ia + 1) % 3)], A[size_t((ia + 2) % 3)], B[0], B[1], B[2]) ||
-              segment_meets_triangle(B[size_t((ib + 1) % 3)], B[size_t((ib + 2) % 3)], A[0], A[1], A[2]);
+        hit = segment_meets_triangle(A[size_t((ia + 1) % 3)], A[size_t((ia + 2) % 3)], B[0], B[1], B[2], &where) ||
+              segment_meets_triangle(B[size_t((ib + 1) % 3)], B[size_t((ib + 2) % 3)], A[0], A[1], A[2], &where);
       } else {
         // Sharing an edge: they overlap only if folded flat onto each other (coplanar, same side).
         int oa = 0, ob = 0;
@@ -291,23 +356,24 @@ SurfaceStats verify_surface(TriSurface& surface, const std::string& name, const 
         const double volume = e.cross(pa).dot(pb);
         const bool coplanar = std::abs(volume) <= 1e-10 * e.norm() * pa.norm() * pb.norm();
         hit = coplanar && e.cross(pa).dot(e.cross(pb)) > 0;
+        where = 0.5 * (u + w);
       }
       return hit;
     };
-    // The pairs are split into parts over the cores, each part counting its own hits and its
-    // smallest pair; the totals do not depend on how the parts were shared out.
+    // The pairs are split into parts over the cores, each part counting its own hits and
+    // keeping its lowest pairs; the totals do not depend on how the parts were shared out.
     const std::vector<std::array<int, 2>> parts = bvh.overlapping_pair_parts(64);
     std::vector<size_t> found_in(parts.size(), 0);
-    std::vector<std::pair<int, int>> first_in(parts.size(), {-1, -1});
+    std::vector<std::vector<IntersectingPair>> first_in(parts.size());
     std::exception_ptr failure;
 #pragma omp parallel for schedule(dynamic, 1) if (nt > 20000)
     for (long i = 0; i < long(parts.size()); ++i) {
       try {
         bvh.for_each_overlapping_pair_in(parts[size_t(i)], [&](int a, int b) {
-          if (!pair_intersects(a, b)) return;
+          Vec3 where;
+          if (!pair_intersects(a, b, where)) return;
           ++found_in[size_t(i)];
-          auto& first = first_in[size_t(i)];
-          if (first.first < 0 || std::make_pair(a, b) < first) first = {a, b};
+          keep_lowest(first_in[size_t(i)], {a, b, where}, kNamedExamples);
         });
       } catch (...) {
 #pragma omp critical(dthex_verify_failure)
@@ -316,15 +382,24 @@ SurfaceStats verify_surface(TriSurface& surface, const std::string& name, const 
     }
     if (failure) std::rethrow_exception(failure);
     size_t found = 0;
-    std::pair<int, int> first{-1, -1};
+    std::vector<IntersectingPair> first;
     for (size_t i = 0; i < parts.size(); ++i) {
       found += found_in[i];
-      if (first_in[i].first >= 0 && (first.first < 0 || first_in[i] < first)) first = first_in[i];
+      for (const IntersectingPair& pair : first_in[i]) keep_lowest(first, pair, kNamedExamples);
     }
-    if (found)
-      refuse("self-intersection", std::to_string(found) + " intersecting triangle pair" + (found > 1 ? "s" : "") +
-                                      ", first " + describe.triangle(first.first) + " and " +
-                                      describe.triangle(first.second));
+    if (found) {
+      std::string pairs;
+      for (size_t k = 0; k < first.size(); ++k)
+        pairs += (k ? ", " : "") + std::to_string(first[k].a) + " and " + std::to_string(first[k].b) + " at " +
+                 describe.point(first[k].point);
+      refuse("self-intersection",
+             std::to_string(found) + " intersecting triangle pair" + (found > 1 ? "s" : "") + ", first " +
+                 describe.triangle(first[0].a) + " and " + describe.triangle(first[0].b) + "; " +
+                 (found > 1 ? "the first " + std::to_string(first.size()) + " pairs: " : "where: ") + pairs +
+                 (found > first.size() ? ", ..." : "") +
+                 "; remove them in MeshLab (Select Self Intersecting Faces, delete, then Close Holes) or with "
+                 "PyMeshFix, and mesh the repaired file");
+    }
   }
 
   // Components: ids in order of their first triangle.
@@ -357,6 +432,31 @@ SurfaceStats verify_surface(TriSurface& surface, const std::string& name, const 
       refuse("zero volume", "component " + std::to_string(c) + " (containing " +
                                 describe.triangle(first_triangle[size_t(c)]) + ") encloses volume " +
                                 std::to_string(volume[size_t(c)]));
+  }
+
+  // 11. bodies closer than the tet mesher can tell apart
+  if (options.near_contact_tolerance > 0 && component_count > 1) {
+    if (!tree) tree = std::make_unique<TriangleBvh>(surface);
+    const double diagonal = bounds.diagonal().norm(), tolerance = options.near_contact_tolerance * diagonal;
+    const TrianglePairDistance near = closest_separate_pair(
+        *tree, tolerance, [&](int a, int b) { return component[size_t(a)] != component[size_t(b)]; });
+    if (near.a >= 0) {
+      std::vector<size_t> triangles_in(size_t(component_count), 0);
+      for (int t = 0; t < nt; ++t) ++triangles_in[size_t(component[size_t(t)])];
+      auto body = [&](int t) {
+        const int c = component[size_t(t)];
+        return "component " + std::to_string(c) + " (" + std::to_string(triangles_in[size_t(c)]) + " triangles, here triangle " +
+               std::to_string(t) + ")";
+      };
+      std::ostringstream gap;
+      gap.precision(3);
+      gap << near.distance << " apart at " << describe.point(near.point_a) << ", below " << options.near_contact_tolerance
+          << " of the bounding-box diagonal (" << tolerance << ")";
+      refuse("bodies too close",
+             body(near.a) + " and " + body(near.b) + " are " + gap.str() +
+                 ", closer than the tet mesher can tell apart; move one away from the other, or merge them into one "
+                 "body by a boolean union (MeshLab, Blender's Boolean modifier, or the segmentation tool)");
+    }
   }
 
   // Nesting: component c lies inside d when d's winding number at a point of c is +-1.

@@ -20,6 +20,12 @@ namespace dthex {
 
 struct VerifyOptions {
   bool check_self_intersections = true;
+  //! Two components (bodies, or a body and its cavity) closer than this fraction of the
+  //! bounding-box diagonal are refused; 0 = not checked. TetGen tells facets apart only down
+  //! to its relative tolerance (-T, 1e-8) and reports closer ones as a self-intersection
+  //! without saying where; 1e-6 leaves a margin of 100 for the coarsening and rounding that
+  //! come before it, and is far below any real gap (0.2 micrometres across a 200 mm bone).
+  double near_contact_tolerance = 1e-6;
   //! Optional: receives the self-intersection check's search tree when it still fits the
   //! verified surface (no component flipped, no vertex removed), so that a caller who needs
   //! one does not build it again; left empty otherwise.
@@ -42,10 +48,14 @@ struct SurfaceStats {
 //! empty; non-finite coordinates; coordinates beyond +-1e100 (they would overflow later
 //! geometry); face index out of range; degenerate triangle (repeated
 //! index, coincident corners, or area below 1e-12 of its longest edge squared); duplicate
-//! triangles (same vertex set); open boundary edge / non-manifold edge (an edge not shared
-//! by exactly two triangles); non-manifold vertex (its triangles form more than one fan);
+//! triangles (same vertex set); open surface (an edge of one triangle only) / non-manifold edge (on
+//! three or more; open edges are refused first); non-manifold vertex (its triangles form more than one fan);
 //! inconsistent orientation within a component; self-intersection (optional); zero volume
-//! (a component enclosing less than 1e-9 of its bounding-box diagonal cubed).
+//! (a component enclosing less than 1e-9 of its bounding-box diagonal cubed); bodies too
+//! close (two components nearer than near_contact_tolerance, closest_triangle_pair.h).
+//! Each refusal also says how to get past it: an open surface names its holes (count, edges,
+//! length and a vertex of each of the first few), a self-intersection the first few pairs
+//! and a point of each, bodies too close both components, the gap and where, and the tools.
 //! Ids are 0-based indices into the surface as given.
 //!
 //! Then it repairs, never refuses: vertices used by no triangle are removed (indices

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/tets/tetrahedralize.h>
 
+#include <dthex/mesh/triangle_bvh.h>
 #include <dthex/pipeline/memory_budget.h>
+#include <dthex/surface/closest_triangle_pair.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -10,6 +12,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstring>
+#include <iomanip>
 #include <sstream>
 #include <fcntl.h>
 #include <poll.h>
@@ -377,6 +380,32 @@ void orient(TetMesh& mesh) {
   }
 }
 
+//! Where TetGen most likely failed, for its self-intersection and close-facet errors: the
+//! closest two triangles that share no corner (searched within growing distances, up to a
+//! hundredth of the bounding-box diagonal), with the way out; "" when none is that close.
+std::string nearest_pair_text(const TriSurface& surface) {
+  const TriangleBvh tree(surface);
+  const double diagonal = tree.bounds().diagonal().norm();
+  auto separate = [&](int a, int b) {
+    for (int u : surface.triangles[size_t(a)])
+      for (int w : surface.triangles[size_t(b)])
+        if (u == w) return false;
+    return true;
+  };
+  for (double fraction = 1e-9; fraction <= 1e-2; fraction *= 10) {
+    const TrianglePairDistance near = closest_separate_pair(tree, fraction * diagonal, separate);
+    if (near.a < 0) continue;
+    std::ostringstream out;
+    out.precision(10);
+    out << "; the closest triangles sharing no corner are " << near.a << " and " << near.b << " of the surface it was "
+        << "given, " << std::setprecision(3) << near.distance << std::setprecision(10) << " apart at (" << near.point_a.x()
+        << ", " << near.point_a.y() << ", " << near.point_a.z()
+        << "): move the parts there apart, or merge them by a boolean union";
+    return out.str();
+  }
+  return "";
+}
+
 }  // namespace
 
 TetMesh tetrahedralize(const TriSurface& surface, const TetgenOptions& options) {
@@ -426,11 +455,14 @@ TetMesh tetrahedralize(const TriSurface& surface, const TetgenOptions& options) 
   if (WIFSIGNALED(status)) {
     const int sig = WTERMSIG(status);
     throw MeshingError("TetGen crashed (signal " + std::to_string(sig) + ", " + signal_name(sig) +
-                       ") on the surface: it is probably self-intersecting or has nearly coincident facets");
+                       ") on the surface: it is probably self-intersecting or has nearly coincident facets" +
+                       nearest_pair_text(surface));
   }
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
     const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    throw MeshingError(tetgen_error_text(code) + " (switches \"" + switches + "\")");
+    const bool near_contact = code == 3 || code == 5;
+    throw MeshingError(tetgen_error_text(code) + " (switches \"" + switches + "\")" +
+                       (near_contact ? nearest_pair_text(surface) : std::string()));
   }
   TetMesh mesh = decode(data, surface.triangles.size());
   if (mesh.tets.empty()) throw MeshingError("TetGen returned no tetrahedra for the surface (switches \"" + switches + "\")");

@@ -4,12 +4,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <memory>
 #include <regex>
+#include <sstream>
 
 using dthex::InputError;
 using dthex::SurfaceStats;
@@ -170,7 +172,7 @@ TEST(VerifySurface, RefusesEachRuleNamingTheFirstElement) {
 
   TriSurface open = cube();
   open.triangles.erase(open.triangles.begin() + 5);
-  expect_refused(open, "open boundary edge", "belongs only to triangle");
+  expect_refused(open, "open surface", "1 hole (loops of open boundary edges, 3 edges in all)");
 
   // Two tetrahedra sharing only the edge 0-1: that edge has four triangles.
   TriSurface edge_pair;
@@ -382,6 +384,125 @@ TEST(VerifySurface, SelfIntersectionsAreCountedAlikeOnAllCores) {
   const std::string rest = alone.substr(alone.find(" intersecting triangle pairs, first triangle 0 "));
   ASSERT_GT(pairs, 1u);
   EXPECT_EQ(refusal(many), prefix + std::to_string(60 * pairs) + rest);
+}
+
+TEST(VerifySurface, AnOpenSurfaceNamesItsHolesAndTheToolsThatCloseThem) {
+  // A sphere with one triangle removed near the north pole and one near the south pole.
+  TriSurface s = uv_sphere(12, 16);
+  const size_t north = 20, south = s.triangles.size() - 40;
+  const Vec3 hole_vertex = s.points[size_t(std::min({s.triangles[south][0], s.triangles[south][1], s.triangles[south][2]}))];
+  double south_length = 0;
+  for (int k = 0; k < 3; ++k)
+    south_length += (s.points[size_t(s.triangles[south][size_t(k)])] - s.points[size_t(s.triangles[south][size_t((k + 1) % 3)])]).norm();
+  s.triangles.erase(s.triangles.begin() + long(south));
+  s.triangles.erase(s.triangles.begin() + long(north));
+  try {
+    verify_surface(s, "case.off");
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.rfind("case.off: open surface: 2 holes (loops of open boundary edges, 6 edges in all): ", 0), 0u)
+        << message;
+    EXPECT_NE(message.find("hole 1 of 3 edges, length "), std::string::npos) << message;
+    EXPECT_NE(message.find("hole 2 of 3 edges, length "), std::string::npos) << message;
+    EXPECT_EQ(message.find("hole 3"), std::string::npos) << message;
+    // The second hole (in edge order, the south one's vertices have higher ids) is named by
+    // its length and a vertex on it.
+    std::ostringstream length;
+    length.precision(6);
+    length << south_length;
+    EXPECT_NE(message.find("hole 2 of 3 edges, length " + length.str() + ", at vertex "), std::string::npos) << message;
+    std::ostringstream place;
+    place.precision(10);
+    place << "(" << hole_vertex.x() << ", " << hole_vertex.y() << ", " << hole_vertex.z() << ")";
+    EXPECT_NE(message.find(place.str()), std::string::npos) << message;
+    EXPECT_NE(message.find("belongs only to triangle"), std::string::npos) << message;
+    EXPECT_NE(message.find("MeshLab (Close Holes), PyMeshFix or Blender (Fill Holes)"), std::string::npos) << message;
+  }
+}
+
+TEST(VerifySurface, ASelfIntersectionNamesTheFirstPairsWithAPointOfEach) {
+  // Two unit cubes, the second shifted by (0.5, 0.4, 0.3): they cross along a closed curve.
+  TriSurface cubes;
+  add_cube(cubes, Vec3(0, 0, 0), 1.0);
+  add_cube(cubes, Vec3(0.5, 0.4, 0.3), 1.0);
+  std::string message;
+  try {
+    verify_surface(cubes, "case.off");
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  ASSERT_FALSE(message.empty());
+  const size_t listed = message.find("the first 5 pairs: ");
+  ASSERT_NE(listed, std::string::npos) << message;
+  // Each pair named is of a triangle of each cube (0-11, 12-23), at a point on both.
+  const std::regex pair("(\\d+) and (\\d+) at \\(([-0-9.e]+), ([-0-9.e]+), ([-0-9.e]+)\\)");
+  const std::string list = message.substr(listed);
+  int named = 0;
+  for (auto it = std::sregex_iterator(list.begin(), list.end(), pair); it != std::sregex_iterator(); ++it) {
+    const int a = std::stoi((*it)[1]), b = std::stoi((*it)[2]);
+    const Vec3 p(std::stod((*it)[3]), std::stod((*it)[4]), std::stod((*it)[5]));
+    EXPECT_LT(a, 12);
+    EXPECT_GE(b, 12);
+    // On the boundary of both cubes: of the first, each coordinate in [0, 1] and one at 0 or 1.
+    const Vec3 q = p - Vec3(0.5, 0.4, 0.3);
+    auto on_cube = [](const Vec3& x) {
+      const double inside = std::max({-x.minCoeff(), x.maxCoeff() - 1});
+      const double face = std::min({x.cwiseAbs().minCoeff(), (x - Vec3::Ones()).cwiseAbs().minCoeff()});
+      return inside <= 1e-9 && face <= 1e-9;
+    };
+    EXPECT_TRUE(on_cube(p) && on_cube(q)) << (*it)[0];
+    ++named;
+  }
+  EXPECT_EQ(named, 5) << message;
+  EXPECT_NE(message.find("MeshLab (Select Self Intersecting Faces"), std::string::npos) << message;
+  EXPECT_NE(message.find("PyMeshFix"), std::string::npos) << message;
+}
+
+TEST(VerifySurface, BodiesCloserThanTheTetMesherCanTellApartAreRefusedNamingBoth) {
+  // Two unit cubes side by side, 1e-9 apart: not intersecting, and far below 1e-6 of the
+  // diagonal (about 2.4).
+  TriSurface near;
+  add_cube(near, Vec3(0, 0, 0), 1.0);
+  add_cube(near, Vec3(1 + 1e-9, 0, 0), 1.0);
+  std::string message;
+  try {
+    TriSurface copy = near;
+    verify_surface(copy, "case.off");
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  EXPECT_EQ(message.rfind("case.off: bodies too close: component 0 (12 triangles, here triangle ", 0), 0u) << message;
+  EXPECT_NE(message.find(") and component 1 (12 triangles, here triangle "), std::string::npos) << message;
+  EXPECT_NE(message.find(" are 1e-09 apart at (1, "), std::string::npos) << message;
+  EXPECT_NE(message.find("move one away from the other, or merge them"), std::string::npos) << message;
+  EXPECT_NE(message.find("boolean union"), std::string::npos) << message;
+  // The named triangles reach the facing sides (x = 1 of the first, x = 1 + 1e-9 of the second).
+  const std::regex ids("here triangle (\\d+)\\) and component 1 \\(12 triangles, here triangle (\\d+)\\)");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(message, m, ids)) << message;
+  for (int k : {1, 2}) {
+    const auto& t = near.triangles[size_t(std::stoi(m[size_t(k)]))];
+    double nearest = 1;
+    for (int v : t) nearest = std::min(nearest, std::abs(near.points[size_t(v)].x() - 1.0));
+    EXPECT_LT(nearest, 1e-8) << message;
+  }
+  // 1e-3 apart they are two bodies; with the check off, 1e-9 too.
+  TriSurface apart;
+  add_cube(apart, Vec3(0, 0, 0), 1.0);
+  add_cube(apart, Vec3(1 + 1e-3, 0, 0), 1.0);
+  EXPECT_EQ(verify_surface(apart, "apart").components, 2u);
+  VerifyOptions unchecked;
+  unchecked.near_contact_tolerance = 0;
+  EXPECT_EQ(verify_surface(near, "near", unchecked).components, 2u);
+}
+
+TEST(VerifySurface, ACavityNearlyTouchingItsBodyIsTooClose) {
+  TriSurface s;
+  add_cube(s, Vec3(0, 0, 0), 3.0);
+  add_cube(s, Vec3(1, 1, 1e-8), 1.0);  // a cavity whose bottom is 1e-8 above the body's
+  flip(s, 12, 12);
+  expect_refused(s, "bodies too close", "component 0 (12 triangles");
 }
 
 TEST(VerifySurface, FoldedAdjacentTrianglesAreASelfIntersection) {
