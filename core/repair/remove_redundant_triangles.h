@@ -30,8 +30,9 @@ struct RemoveRedundantTrianglesReport {
 //! vertices (in any order or orientation), all but the lowest-id one. Removes them all when
 //! the surface that remains is closed and manifold; otherwise changes nothing. Triangles
 //! keep their order (ids after the first removed one shift down). Zero-area triangles on
-//! three distinct vertices are not touched (removing one opens a crack); nor is anything
-//! when a face index is out of range.
+//! three distinct vertices are not touched (removing one opens a crack;
+//! flip_zero_area_slivers.h flips them away instead); nor is anything when a face index is
+//! out of range.
 RemoveRedundantTrianglesReport remove_redundant_triangles(TriSurface& surface,
                                                           const RemoveRedundantTrianglesOptions& options = {});
 

@@ -3,6 +3,7 @@
 
 #include <dthex/mesh/half_edges.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cstdint>
 

@@ -10,6 +10,7 @@ SurfaceRepairReport repair_surface(TriSurface& surface, const SurfaceRepairOptio
   report.islands = remove_small_islands(surface, options.islands);
   report.redundant = remove_redundant_triangles(surface, options.redundant);
   report.orientation = repair_orientation(surface, options.orientation);
+  report.slivers = flip_zero_area_slivers(surface, options.slivers);
   return report;
 }
 

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <dthex/mesh/types.h>
+#include <dthex/repair/flip_zero_area_slivers.h>
 #include <dthex/repair/merge_coincident_vertices.h>
 #include <dthex/repair/remove_redundant_triangles.h>
 #include <dthex/repair/remove_small_islands.h>
@@ -17,6 +18,7 @@ struct SurfaceRepairOptions {
   RemoveSmallIslandsOptions islands;  //!< off by default (min_triangles 0): it removes geometry
   RemoveRedundantTrianglesOptions redundant;
   RepairOrientationOptions orientation;
+  FlipZeroAreaSliversOptions slivers;
 };
 
 struct SurfaceRepairReport {
@@ -25,10 +27,11 @@ struct SurfaceRepairReport {
   RemoveSmallIslandsReport islands;
   RemoveRedundantTrianglesReport redundant;
   RepairOrientationReport orientation;
+  FlipZeroAreaSliversReport slivers;
   //! Did any repair change the surface?
   bool changed() const {
     return merge.vertices_merged + islands.triangles_dropped + redundant.collapsed_removed + redundant.duplicates_removed +
-               orientation.triangles_turned >
+               orientation.triangles_turned + slivers.slivers_flipped >
            0;
   }
 };
@@ -39,8 +42,9 @@ struct SurfaceRepairReport {
 //! noise island must not fail), then removes the collapsed and duplicate triangles where the
 //! surface stays closed and manifold
 //! (remove_redundant_triangles.h), then makes each component's orientation consistent
-//! (repair_orientation.h). Vertex ids are kept (merged vertices are left unused); triangle
-//! ids shift only when triangles were removed.
+//! (repair_orientation.h), then flips the zero-area slivers away (flip_zero_area_slivers.h:
+//! it needs the consistent orientation). Vertex ids are kept (merged vertices are left
+//! unused); triangle ids shift only when triangles were removed.
 SurfaceRepairReport repair_surface(TriSurface& surface, const SurfaceRepairOptions& options = {});
 
 }  // namespace dthex

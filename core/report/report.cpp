@@ -426,6 +426,12 @@ std::string describe(const SurfaceRepairReport& r) {
     out << "  repaired: " << plural(o.triangles_turned, "triangle", "triangles") << " turned to match "
         << (o.triangles_turned == 1 ? "its" : "their") << " neighbours (first: " << ids(o.first_turned, o.triangles_turned)
         << ")\n";
+  const FlipZeroAreaSliversReport& f = r.slivers;
+  if (f.slivers_flipped)
+    out << "  repaired: " << plural(f.slivers_flipped, "zero-area sliver", "zero-area slivers")
+        << " flipped away with the neighbour across its longest edge, the shape unchanged (first: triangle "
+        << f.first_flipped[0] << " at (" << f.first_places[0].x() << ", " << f.first_places[0].y() << ", "
+        << f.first_places[0].z() << "))\n";
   return out.str();
 }
 
@@ -529,7 +535,9 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
                            {"redundant_triangles_left", r.repairs.redundant.left_in_place},
                            {"triangles_turned", r.repairs.orientation.triangles_turned},
                            {"components_with_turned_triangles", r.repairs.orientation.components_repaired},
-                           {"first_turned_triangles", r.repairs.orientation.first_turned}};
+                           {"first_turned_triangles", r.repairs.orientation.first_turned},
+                           {"slivers_flipped", r.repairs.slivers.slivers_flipped},
+                           {"first_flipped_slivers", r.repairs.slivers.first_flipped}};
   // The surface the coarsening started from, when the input was remeshed first.
   if (!r.remeshed.triangles.empty())
     j["input"]["remeshed"] = {{"vertices", r.remeshed.points.size()}, {"triangles", r.remeshed.triangles.size()}};

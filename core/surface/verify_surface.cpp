@@ -229,7 +229,9 @@ SurfaceStats verify_surface(TriSurface& surface, const std::string& name, const 
     const Vec3 &a = P[size_t(tri[0])], &b = P[size_t(tri[1])], &c = P[size_t(tri[2])];
     const double longest_sq = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
     if (a == b || b == c || c == a || (b - a).cross(c - a).norm() <= 1e-12 * longest_sq)
-      refuse("degenerate triangle", describe.triangle(t) + " has zero area");
+      refuse("degenerate triangle",
+             describe.triangle(t) + " has zero area; --repair safe flips such a sliver away where its neighbour " +
+                 "allows, else remove it in MeshLab (Remove Zero Area Faces) or with PyMeshFix and close the hole");
   }
   // 5. duplicate triangles
   {

@@ -85,6 +85,13 @@ std::vector<HostileCase> catalogue() {
   degenerate.points.push_back({0.5, 0, 0});  // on the edge 0-1: a zero-area sliver
   degenerate.triangles.push_back({0, 1, 8});
   degenerate.triangles.push_back({1, 0, 8});
+  // The cube's triangle {0, 2, 1} split at c on the edge 0-1, the crack closed by the
+  // zero-area sliver (1, 0, c): the safe repair flips it with {0, 1, 4} across the edge.
+  Surface sliver = cube();
+  sliver.points.push_back({0.25, 0, 0});
+  sliver.triangles[0] = {0, 2, 8};
+  sliver.triangles.push_back({8, 2, 1});
+  sliver.triangles.push_back({1, 0, 8});
   const std::string binary_cube = binary_stl_bytes(cube());
   const std::string ascii_cube = ascii_stl_text(cube());
   const std::string ply_cube_header = "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\n"
@@ -119,6 +126,8 @@ std::vector<HostileCase> catalogue() {
        "(ids after the safe repairs; --repair none checks the file as given)"},
       {"OpenSoupObjWithoutRepairIsOpenAtOnce", "soup.obj", bytes(open_soup), 2, "open boundary edge", "--repair none"},
       {"DegenerateSliver", "sliver.off", bytes(off_text(degenerate)), 2, "degenerate"},
+      {"DegenerateSliverSaysHowToRemoveIt", "sliver.off", bytes(off_text(degenerate)), 2, "MeshLab (Remove Zero Area Faces)"},
+      {"ZeroAreaSliverUnrepaired", "sliver.off", bytes(off_text(sliver)), 2, "has zero area", "--repair none"},
       {"InterpenetratingCubes", "crossing.off", bytes(off_text(join(cube(), cube(0.5, 0.5, 0.5)))), 2, "self-intersection"},
       {"InterpenetratingCubesNamesThePairsAndTheTools", "crossing.off", bytes(off_text(join(cube(), cube(0.5, 0.5, 0.5)))), 2,
        "Select Self Intersecting Faces"},
@@ -156,6 +165,7 @@ std::vector<HostileCase> catalogue() {
       // Valid but tricky: each must mesh.
       {"DuplicateFaceRepaired", "duplicate.off", bytes(off_text(duplicate)), 0, "", "", "duplicate_triangles_removed"},
       {"InconsistentOrientationRepaired", "orient.off", bytes(off_text(inconsistent)), 0, "", "", "triangles_turned"},
+      {"ZeroAreaSliverFlipped", "sliver.off", bytes(off_text(sliver)), 0, "", "", "slivers_flipped"},
       {"CubesAMillimetreApart", "apart.off", bytes(off_text(join(cube(), cube(1.001, 0, 0)))), 0, ""},
       {"InwardCube", "inward.off", bytes(off_text(reversed(cube()))), 0, ""},
       {"TwoDisjointCubes", "two.off", bytes(off_text(join(cube(), cube(3, 0, 0)))), 0, ""},
