@@ -15,6 +15,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -233,13 +234,34 @@ int main(int argc, char** argv) {
                  "safe (default): before verification, repair what cannot change the shape and say so in the summary\n"
                  "and the report: coincident vertices merged (every format), collapsed and duplicate triangles removed\n"
                  "where the surface stays closed and manifold, triangles wound against their neighbours turned (per\n"
-                 "component, the minority). none: refuse every defect as found, ids as in the file")
+                 "component, the minority), zero-area slivers flipped away with their neighbour. none: refuse every\n"
+                 "defect as found, ids as in the file")
       ->default_val("safe")
       ->check(CLI::IsMember({"safe", "none"}));
-  app.add_option("--min-island", cl.pipeline.min_island_triangles,
-                 "with --repair safe, also drop islands (parts joined through shared vertices) of fewer than N\n"
-                 "triangles, such as a segmentation's noise voxels; the largest part is always kept. 0 (default): none")
-      ->default_val(0);
+  std::string min_island = "0";
+  app.add_option("--min-island", min_island,
+                 "with --repair safe, also drop islands (parts joined through shared vertices), such as a segmentation's\n"
+                 "noise voxels: N = of fewer than N triangles; F% = closed ones enclosing less than F percent of the\n"
+                 "largest part's volume (e.g. 0.1%), whatever their triangle count. The largest part is always kept.\n"
+                 "0 (default): none")
+      ->default_val("0")
+      ->check(CLI::Validator(
+          [](std::string& value) -> std::string {
+            char* end = nullptr;
+            const bool percent = !value.empty() && value.back() == '%';
+            const std::string number = percent ? value.substr(0, value.size() - 1) : value;
+            if (!percent) {
+              const long long count = std::strtoll(number.c_str(), &end, 10);
+              if (end == number.c_str() || *end != '\0' || count < 0)
+                return "must be a triangle count N >= 0 or a volume percentage such as 0.1%, not " + value;
+              return "";
+            }
+            const double fraction = std::strtod(number.c_str(), &end);
+            if (end == number.c_str() || *end != '\0' || !(fraction > 0 && fraction < 100))
+              return "a volume percentage must be in (0%, 100%), not " + value;
+            return "";
+          },
+          "N|F%"));
   std::string remesh = "auto";
   app.add_option("--remesh", remesh,
                  "remesh the input with even triangles before coarsening (split, collapse, flip, relax; feature lines\n"
@@ -299,7 +321,12 @@ int main(int argc, char** argv) {
     cl.pipeline.thickness_retry = thickness_ratio == "auto";
     cl.pipeline.thickness_ratio = cl.pipeline.thickness_retry ? 0.0 : std::stod(thickness_ratio);
     cl.pipeline.repair = repair == "none" ? dthex::PipelineOptions::Repair::none : dthex::PipelineOptions::Repair::safe;
-    if (cl.pipeline.repair == dthex::PipelineOptions::Repair::none && cl.pipeline.min_island_triangles > 0)
+    if (!min_island.empty() && min_island.back() == '%')
+      cl.pipeline.min_island_volume_fraction = std::strtod(min_island.substr(0, min_island.size() - 1).c_str(), nullptr) / 100.0;
+    else
+      cl.pipeline.min_island_triangles = size_t(std::strtoull(min_island.c_str(), nullptr, 10));
+    if (cl.pipeline.repair == dthex::PipelineOptions::Repair::none &&
+        (cl.pipeline.min_island_triangles > 0 || cl.pipeline.min_island_volume_fraction > 0))
       throw CLI::ValidationError("--min-island", "drops triangles, a repair: it needs --repair safe, not none");
     cl.pipeline.remesh = remesh == "on"    ? dthex::PipelineOptions::Remesh::always
                          : remesh == "off" ? dthex::PipelineOptions::Remesh::never

@@ -222,6 +222,7 @@ PipelineResult read_and_verify(const std::string& input_path, Progress& progress
   if (options.repair == PipelineOptions::Repair::safe) {
     SurfaceRepairOptions repair_options;
     repair_options.islands.min_triangles = options.min_island_triangles;
+    repair_options.islands.min_volume_fraction = options.min_island_volume_fraction;
     result.repairs = repair_surface(result.input, repair_options);
   }
   timed_stage(result, progress, "verify", [&] {

@@ -28,6 +28,9 @@ struct PipelineOptions {
   //! than this are dropped, the largest always kept (remove_small_islands.h); 0 = none. Off by
   //! default: unlike the safe repairs it removes geometry, such as a segmentation's noise voxels.
   size_t min_island_triangles = 0;
+  //! With Repair::safe, closed islands enclosing less than this fraction of the largest one's
+  //! volume are dropped too (RemoveSmallIslandsOptions::min_volume_fraction); 0 = none.
+  double min_island_volume_fraction = 0;
   double eps = 0.1;                 //!< coarsening factor (sagitta / radius), in (0, 1)
   int dice = 2;                     //!< each hex into dice^3
   double h_min = 0;                 //!< smallest coarse edge size, input units; 0 = automatic
@@ -125,7 +128,7 @@ std::string tetgen_switches_for(const PipelineOptions& options);
 //! repair changed the surface, the message says so, since its ids are then of the repaired
 //! surface). `search_tree`, if given, receives the verification's search tree over
 //! result.input when it still fits (VerifyOptions).
-//! Only options.repair and options.min_island_triangles are read.
+//! Only options.repair and options.min_island_* are read.
 PipelineResult read_and_verify(const std::string& input_path, Progress& progress,
                                std::unique_ptr<TriangleBvh>* search_tree = nullptr,
                                const PipelineOptions& options = PipelineOptions());

@@ -37,7 +37,7 @@ struct SurfaceRepairReport {
 };
 
 //! Merges coincident vertices (merge_coincident_vertices.h), drops the islands below
-//! options.islands.min_triangles if set (remove_small_islands.h: after the merge, so that a
+//! options.islands.min_triangles or min_volume_fraction if set (remove_small_islands.h: after the merge, so that a
 //! soup's triangles are one island, and before the next step, whose closed-surface test a
 //! noise island must not fail), then removes the collapsed and duplicate triangles where the
 //! surface stays closed and manifold

@@ -409,7 +409,9 @@ std::string describe(const SurfaceRepairReport& r) {
   const RemoveSmallIslandsReport& i = r.islands;
   if (i.islands_dropped) {
     out << "  repaired: " << plural(i.islands_dropped, "island", "islands") << " ("
-        << plural(i.triangles_dropped, "triangle", "triangles") << ") dropped, below --min-island (first: triangle "
+        << plural(i.triangles_dropped, "triangle", "triangles") << ") dropped, below --min-island"
+        << (i.dropped_by_volume ? " (" + std::to_string(i.dropped_by_volume) + " by volume)" : std::string())
+        << " (first: triangle "
         << i.first_triangles[0] << " near (" << i.first_places[0].x() << ", " << i.first_places[0].y() << ", "
         << i.first_places[0].z() << "))\n";
   }
@@ -536,6 +538,7 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
                            {"triangles_turned", r.repairs.orientation.triangles_turned},
                            {"components_with_turned_triangles", r.repairs.orientation.components_repaired},
                            {"first_turned_triangles", r.repairs.orientation.first_turned},
+                           {"islands_dropped_by_volume", r.repairs.islands.dropped_by_volume},
                            {"slivers_flipped", r.repairs.slivers.slivers_flipped},
                            {"first_flipped_slivers", r.repairs.slivers.first_flipped}};
   // The surface the coarsening started from, when the input was remeshed first.
@@ -543,6 +546,7 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
     j["input"]["remeshed"] = {{"vertices", r.remeshed.points.size()}, {"triangles", r.remeshed.triangles.size()}};
   j["options"] = {{"repair", o.repair == PipelineOptions::Repair::none ? "none" : "safe"},
                   {"min_island", o.min_island_triangles},
+                  {"min_island_volume_fraction", o.min_island_volume_fraction},
                   {"eps", r.eps},
                   {"target_nodes", o.target_nodes},
                   {"dice", o.dice},

@@ -6,8 +6,9 @@
 // Verification may refuse (InputError) but must never crash or throw anything else, and
 // what it accepts must satisfy its promises: indices in range, every edge shared by
 // exactly two triangles, positive enclosed volume (when self-intersections are checked).
-// The repairs (with --min-island when a flag bit says so) must never crash, and never turn a
-// surface that verifies into one that does not.
+// The repairs (with --min-island, by triangles and by volume, when a flag bit says so; the
+// sliver flips always) must never crash, and never turn a surface that verifies into one
+// that does not.
 #include <dthex/repair/repair_surface.h>
 #include <dthex/surface/verify_surface.h>
 
@@ -57,7 +58,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const dthex::TriSurface given = surface;
   if (repair) {
     dthex::SurfaceRepairOptions repair_options;
-    if (flags & 16) repair_options.islands.min_triangles = 1 + flags / 32;  // --min-island 1..8
+    if (flags & 16) {
+      repair_options.islands.min_triangles = 1 + flags / 32;               // --min-island 1..8
+      repair_options.islands.min_volume_fraction = 0.1 * double(flags / 32);  // and 0% to 70% of the volume
+    }
     const dthex::SurfaceRepairReport report = dthex::repair_surface(surface, repair_options);
     if (surface.points.size() != given.points.size()) std::abort();  // repairs renumber no vertex
     if (surface.triangles.size() + report.islands.triangles_dropped + report.redundant.collapsed_removed +

@@ -403,3 +403,63 @@ TEST(Cli, MinIslandDropsANoiseIslandBesideTheSphere) {
   EXPECT_NE(none.err.find("--min-island"), std::string::npos) << none.err;
   fs::remove_all(dir);
 }
+
+// --min-island F% drops closed islands below F percent of the largest one's volume.
+TEST(Cli, MinIslandAsAVolumePercentage) {
+  const fs::path dir = scratch("island_volume");
+  dthex::TriSurface s = dthex::read_surface(mesh("sphere728.off"));
+  // A cube of side 0.2 (volume 0.008, about 0.2% of the unit sphere's 4.19) beside it.
+  const int base = int(s.points.size());
+  for (int i = 0; i < 8; ++i) s.points.push_back(dthex::Vec3(3 + 0.2 * (i & 1), 0.2 * ((i >> 1) & 1), 0.2 * ((i >> 2) & 1)));
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& q : quads) {
+    s.triangles.push_back({base + q[0], base + q[1], base + q[2]});
+    s.triangles.push_back({base + q[0], base + q[2], base + q[3]});
+  }
+  write_bytes(dir / "cube_island.off", off_text(s));
+  const std::string input = (dir / "cube_island.off").string();
+  const CommandRun dropped = om_dthex(input + " --verify-only --min-island 0.5%", dir);
+  ASSERT_EQ(dropped.exit_code, 0) << dropped.err;
+  EXPECT_NE(dropped.out.find("repaired: 1 island (12 triangles) dropped, below --min-island (1 by volume) (first: triangle 728"),
+            std::string::npos)
+      << dropped.out;
+  EXPECT_NE(dropped.out.find("1 component(s)"), std::string::npos) << dropped.out;
+  const CommandRun kept = om_dthex(input + " --verify-only --min-island 0.1%", dir);
+  ASSERT_EQ(kept.exit_code, 0) << kept.err;
+  EXPECT_NE(kept.out.find("2 component(s)"), std::string::npos) << kept.out;
+  for (const std::string bad : {"0%", "100%", "-1", "abc%", "1.5"}) {
+    const CommandRun r = om_dthex(input + " --verify-only --min-island " + bad, dir);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.err.find("--min-island"), std::string::npos) << bad << ": " << r.err;
+  }
+  const CommandRun none = om_dthex(input + " --verify-only --repair none --min-island 0.5%", dir);
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.err.find("needs --repair safe"), std::string::npos) << none.err;
+  fs::remove_all(dir);
+}
+
+// Two cubes 1e-3 apart (well above the near-contact tolerance) mesh as two bodies.
+TEST(Cli, TwoCubesAMillimetreApartMeshAsTwoBodies) {
+  const fs::path dir = scratch("cubes_apart");
+  dthex::TriSurface s;
+  for (double x0 : {0.0, 1.001}) {
+    const int base = int(s.points.size());
+    for (int i = 0; i < 8; ++i) s.points.push_back(dthex::Vec3(x0 + (i & 1), (i >> 1) & 1, (i >> 2) & 1));
+    const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (const auto& q : quads) {
+      s.triangles.push_back({base + q[0], base + q[1], base + q[2]});
+      s.triangles.push_back({base + q[0], base + q[2], base + q[3]});
+    }
+  }
+  write_bytes(dir / "apart.off", off_text(s));
+  const CommandRun r = om_dthex((dir / "apart.off").string() + " -q -o " + (dir / "o.vtu").string() + " --report " +
+                                    (dir / "r.json").string(),
+                                dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json report = nlohmann::json::parse(read_bytes(dir / "r.json"));
+  EXPECT_EQ(report["input"]["surface"]["components"].get<size_t>(), 2u);
+  EXPECT_TRUE(report["hex"]["conforming"].get<bool>());
+  // Both bodies meshed (one alone would be about 1; the corners are rounded a little).
+  EXPECT_NEAR(report["hex"]["volume"].get<double>(), 2.0, 0.1);
+  fs::remove_all(dir);
+}

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 using dthex::RemoveSmallIslandsOptions;
 using dthex::RemoveSmallIslandsReport;
 using dthex::TriSurface;
@@ -85,4 +87,64 @@ TEST(RemoveSmallIslands, OffByDefaultAndTheLargestIsKept) {
   EXPECT_EQ(report.triangles_dropped, 8u);
   EXPECT_EQ(report.first_triangles, (std::vector<int>{12, 16}));
   EXPECT_EQ(s.triangles.size(), 12u);
+}
+
+TEST(RemoveSmallIslands, ByVolumeATinyCubeBesideTheFemurIsDroppedBelowTheFraction) {
+  // A cube enclosing 0.01% of the femur's volume, beside it: 12 triangles, as many as a real
+  // bone fragment could have, so only its volume tells it from one.
+  const TriSurface femur = dthex::read_surface(std::string(DTHEX_SOURCE_DIR) + "/meshes/femur_proximal_ct.off");
+  TriSurface copy = femur;
+  const dthex::SurfaceStats stats = dthex::verify_surface(copy, "femur");
+  const double side = std::cbrt(1e-4 * stats.volume);
+  TriSurface s = femur;
+  add_box(s, stats.bounds.max() + Vec3(1, 1, 1) * stats.bbox_diagonal * 0.1, Vec3::Ones() * side);
+  const TriSurface with_cube = s;
+  RemoveSmallIslandsOptions options;
+  options.min_volume_fraction = 1e-3;  // --min-island 0.1%
+  const RemoveSmallIslandsReport report = remove_small_islands(s, options);
+  EXPECT_EQ(report.islands_dropped, 1u);
+  EXPECT_EQ(report.dropped_by_volume, 1u);
+  EXPECT_EQ(report.triangles_dropped, 12u);
+  ASSERT_EQ(report.first_triangles.size(), 1u);
+  EXPECT_EQ(report.first_triangles[0], int(femur.triangles.size()));
+  EXPECT_EQ(s.triangles, femur.triangles);
+  // At 0.001% the cube (0.01%) is above the fraction and kept; so is it by a triangle count.
+  for (double fraction : {1e-5, 0.0}) {
+    TriSurface again = with_cube;
+    options.min_volume_fraction = fraction;
+    EXPECT_EQ(remove_small_islands(again, options).islands_dropped, 0u) << fraction;
+    EXPECT_EQ(again.triangles, with_cube.triangles);
+  }
+}
+
+TEST(RemoveSmallIslands, ByVolumeTheVolumeIsMeasuredWithConsistentOrientation) {
+  // A box of volume 1 and one of 0.008 (0.8%) with a triangle wound the wrong way, and an
+  // inward box of 0.008: the reversed triangle and the winding must not change their volume.
+  TriSurface s;
+  add_box(s, Vec3::Zero(), Vec3::Ones());
+  add_box(s, Vec3(3, 0, 0), Vec3::Ones() * 0.2);
+  std::swap(s.triangles[14][1], s.triangles[14][2]);
+  add_box(s, Vec3(5, 0, 0), Vec3::Ones() * 0.2);
+  for (size_t t = 24; t < 36; ++t) std::swap(s.triangles[t][1], s.triangles[t][2]);
+  const TriSurface before = s;
+  RemoveSmallIslandsOptions options;
+  options.min_volume_fraction = 0.0079;  // just below 0.8%: both kept
+  EXPECT_EQ(remove_small_islands(s, options).islands_dropped, 0u);
+  EXPECT_EQ(s.triangles, before.triangles);
+  options.min_volume_fraction = 0.0081;  // just above: both dropped, the unit box kept
+  const RemoveSmallIslandsReport report = remove_small_islands(s, options);
+  EXPECT_EQ(report.dropped_by_volume, 2u);
+  EXPECT_EQ(report.first_triangles, (std::vector<int>{12, 24}));
+  EXPECT_EQ(s.triangles.size(), 12u);
+}
+
+TEST(RemoveSmallIslands, ByVolumeAnOpenIslandHasNoVolumeAndIsKept) {
+  TriSurface s;
+  add_box(s, Vec3::Zero(), Vec3::Ones());
+  add_box(s, Vec3(3, 0, 0), Vec3::Ones() * 0.1);
+  s.triangles.pop_back();  // the small box open
+  RemoveSmallIslandsOptions options;
+  options.min_volume_fraction = 0.5;
+  EXPECT_EQ(remove_small_islands(s, options).islands_dropped, 0u);
+  EXPECT_EQ(s.triangles.size(), 23u);
 }
