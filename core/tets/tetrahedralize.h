@@ -29,7 +29,9 @@ struct TetgenOptions {
 //! \throw InputError for invalid switches, a non-positive time limit, or a surface with
 //!        out-of-range or repeated triangle indices.
 //! \throw MeshingError when TetGen crashes, aborts, reports an error, exceeds the time
-//!        limit, or returns no tetrahedra; the message says which and the probable cause.
+//!        limit, or returns no tetrahedra; the message says which and the probable cause,
+//!        and for a crash, a self-intersection or close facets names the closest two
+//!        triangles sharing no corner (closest_triangle_pair.h), the gap and the place.
 TetMesh tetrahedralize(const TriSurface& surface, const TetgenOptions& options = {});
 
 }  // namespace dthex
