@@ -1,9 +1,14 @@
 // SPDX-License-Identifier: MIT
+#include <dthex/io/read_surface.h>
 #include <dthex/repair/flip_zero_area_slivers.h>
 #include <dthex/repair/remove_redundant_triangles.h>
 #include <dthex/surface/verify_surface.h>
 
 #include <gtest/gtest.h>
+
+#include <string>
+#include <tuple>
+#include <vector>
 
 using dthex::FlipZeroAreaSliversReport;
 using dthex::InputError;
@@ -95,4 +100,31 @@ TEST(FlipZeroAreaSlivers, AFlipThatWouldDuplicateAnEdgeIsLeftForVerification) {
   EXPECT_EQ(report.slivers_flipped, 0u);
   EXPECT_EQ(report.left_in_place, 1u);
   EXPECT_EQ(s.triangles, before.triangles);
+}
+
+TEST(FlipZeroAreaSlivers, SeveralSliversOnTheSphereAreAllFlippedWithVolumeAndAreaKept) {
+  // A T-junction sliver on one edge of each of five triangles of the bundled sphere, two of
+  // them on the same triangle's two edges (the second split is of a triangle the first made).
+  TriSurface s = dthex::read_surface(std::string(DTHEX_SOURCE_DIR) + "/meshes/sphere728.off");
+  TriSurface copy = s;
+  const dthex::SurfaceStats before = dthex::verify_surface(copy, "sphere");
+  const double area_before = area(s);
+  for (const auto& [t, e, f] : std::vector<std::tuple<int, int, double>>{{0, 0, 0.3}, {150, 1, 0.5}, {300, 2, 0.7},
+                                                                          {450, 0, 0.4}, {728, 1, 0.6}}) {
+    const auto tri = s.triangles[size_t(t)];
+    const int u = tri[size_t(e)], v = tri[size_t((e + 1) % 3)], w = tri[size_t((e + 2) % 3)];
+    const int c = int(s.points.size());
+    s.points.push_back((1 - f) * s.points[size_t(u)] + f * s.points[size_t(v)]);
+    s.triangles[size_t(t)] = {u, c, w};
+    s.triangles.push_back({c, v, w});
+    s.triangles.push_back({u, v, c});  // against the split halves and the triangle across u-v
+  }
+  const FlipZeroAreaSliversReport report = flip_zero_area_slivers(s);
+  EXPECT_EQ(report.slivers_flipped, 5u);
+  EXPECT_EQ(report.left_in_place, 0u);
+  EXPECT_EQ(report.first_flipped.size(), 5u);
+  EXPECT_NEAR(area(s), area_before, 1e-12);
+  const dthex::SurfaceStats after = dthex::verify_surface(s, "flipped");
+  EXPECT_NEAR(after.volume, before.volume, 1e-12);
+  EXPECT_EQ(after.triangles, before.triangles + 10);
 }
