@@ -208,7 +208,13 @@ double choose_eps_for_nodes(const TriSurface& input, const PipelineOptions& opti
 
 std::string tetgen_switches_for(const PipelineOptions& options) {
   if (!options.tetgen_switches.empty()) return options.tetgen_switches;
-  return options.thex_only ? kThexTetgenSwitches : kDTHexTetgenSwitches;
+  if (options.thex_only) return kThexTetgenSwitches;
+  if (options.min_dihedral_deg > 0) {
+    std::ostringstream bounded;
+    bounded << "pq1.5/" << options.min_dihedral_deg << "Y";
+    return bounded.str();
+  }
+  return kDTHexTetgenSwitches;
 }
 
 PipelineResult read_and_verify(const std::string& input_path, Progress& progress,
@@ -383,12 +389,14 @@ void smooth_and_repair_worst(Meshing& m, const NodeConstraints& constraints) {
     smooth_options.time_limit_seconds = options.time_limit_seconds;
     smooth_options.constraints = &constraints;
     smooth_options.knife_edge_slide = options.knife_edge_slide;
+    if (options.min_dihedral_deg > 0) smooth_options.target_scaled_jacobian = kLiftedTargetScaledJacobian;
     return smooth_worst_hexes(m.result.hexes, m.input_bvh, smooth_options);
   });
   RepairWorstHexesOptions repair_options;
   repair_options.constraints = &constraints;
   repair_options.knife_edge_slide = options.knife_edge_slide;
   repair_options.time_limit_seconds = options.time_limit_seconds;
+  if (options.min_dihedral_deg > 0) repair_options.target_scaled_jacobian = kLiftedTargetScaledJacobian;
   // Hexes left below the threshold make this mesh poor. If thin walls are then the likely
   // cause, run_pipeline meshes again sized by thickness whatever the repair reaches, so the
   // repair waits for that mesh.

@@ -559,6 +559,7 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
                   {"project", o.project},
                   {"strict", o.strict},
                   {"knife_edge_slide", o.knife_edge_slide},
+                  {"min_dihedral", o.min_dihedral_deg},
                   {"remesh", o.remesh == PipelineOptions::Remesh::always  ? "on"
                              : o.remesh == PipelineOptions::Remesh::never ? "off"
                                                                           : "auto"},
