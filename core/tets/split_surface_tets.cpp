@@ -3,6 +3,8 @@
 
 #include <dthex/mesh/quality.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <map>
 #include <numeric>
