@@ -185,10 +185,14 @@ int main(int argc, char** argv) {
                  ".inp (Abaqus), .feb (FEBio 4), .exo (Exodus II). Default: INPUT-stem_hex.vtu beside the input");
   app.add_option("--eps", cl.pipeline.eps,
                  "coarsening factor eps in (0,1): allowed sagitta / curvature radius; target edge\n"
-                 "h = 2 sqrt(eps (2 - eps)) * radius. Larger = coarser")
+                 "h = 2 sqrt(eps (2 - eps)) * radius. Larger = coarser. If the coarsening fails there (it still\n"
+                 "self-intersects after its repairs), it is tried at 0.7 x eps, up to 4 times, and the summary says so")
       ->default_val(0.1)
       ->check(CLI::Range(1e-6, 0.999999).description("in (0, 1)"));
-  app.add_option("--dice", cl.pipeline.dice, "split every THex hex into N^3 hexes")
+  CLI::Option* dice_option =
+      app.add_option("--dice", cl.pipeline.dice,
+                     "split every THex hex into N^3 hexes (with --target-nodes and no --dice: chosen, 2 if it can\n"
+                     "reach the budget)")
       ->default_val(2)
       ->check(CLI::Range(1, 8));
   app.add_option("--hmin", cl.pipeline.h_min,
@@ -277,7 +281,10 @@ int main(int argc, char** argv) {
       ->default_val("auto")
       ->check(CLI::IsMember({"auto", "on", "off"}));
   app.add_option("--target-nodes", cl.pipeline.target_nodes,
-                 "choose eps so the hex mesh has about N nodes (within 10%); overrides --eps")
+                 "choose eps so the hex mesh has about N nodes (within 10%); overrides --eps. Without --dice the\n"
+                 "dicing is chosen too: 2 when some eps reaches N with it (better boundary fit), else the nearest\n"
+                 "that does (1 for a small budget, 3, 4, ... for a large one); an eps whose coarsening fails is\n"
+                 "taken as too coarse")
       ->check(CLI::PositiveNumber);
   app.add_flag("--thex-only", cl.pipeline.thex_only,
                "classic THex of the input (tet-mesh, 4 hexes per tet): no coarsening, dicing or projection; the baseline");
@@ -324,6 +331,7 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+    cl.pipeline.choose_dice = dice_option->count() == 0;
     cl.pipeline.thickness_retry = thickness_ratio == "auto";
     cl.pipeline.thickness_ratio = cl.pipeline.thickness_retry ? 0.0 : std::stod(thickness_ratio);
     cl.pipeline.repair = repair == "none" ? dthex::PipelineOptions::Repair::none : dthex::PipelineOptions::Repair::safe;

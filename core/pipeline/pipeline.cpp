@@ -34,6 +34,7 @@
 #include <functional>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
 namespace dthex {
@@ -149,9 +150,10 @@ void improve_tets_for_projection(TetMesh& tets, const StageRunner& stage) {
   stage("relax inner points", [&] { return StageReport(relax_interior_points(tets)); });
 }
 
-// Final node count for a given eps: coarsen and tet-mesh as the pipeline does, then count
-// what THex and dicing would make (projection and untangling move nodes, they add none).
-size_t predicted_nodes(const TriSurface& input, const PipelineOptions& options, double eps) {
+// The tets a given eps gives, counted: coarsen and tet-mesh as the pipeline does. The final
+// node count of any dicing follows from them (diced_thex_nodes): projection and untangling
+// move nodes, they add none.
+TetCounts predicted_tet_counts(const TriSurface& input, const PipelineOptions& options, double eps) {
   TriSurface coarse = coarsen(input, coarsen_options_for(options, eps)).surface;
   CoarsenStageReport unused;
   prepare_coarse_surface(coarse, options, unused);
@@ -159,26 +161,93 @@ size_t predicted_nodes(const TriSurface& input, const PipelineOptions& options, 
   TetMesh tets = tetrahedralize(coarse, tetgen_options_for(options));
   const StageRunner silently = [](const std::string&, const std::function<StageReport()>& step) { step(); };
   if (options.project) improve_tets_for_projection(tets, silently);
-  return diced_thex_nodes(count_tet_entities(tets), options.dice);
+  return count_tet_entities(tets);
 }
 
-// Bisection on log(eps): the node count falls as eps grows (not strictly: it can step).
-double choose_eps_for_nodes(const TriSurface& input, const PipelineOptions& options, const std::string& input_path,
-                            Progress& progress) {
+// predicted_tet_counts, or nothing when the meshing at eps fails (MeshingError: a coarsening
+// that still self-intersects after its repair rounds, a coarse surface that fails
+// verification, TetGen refusing it). Counts the failure into `report`.
+std::optional<TetCounts> try_tet_counts(const TriSurface& input, const PipelineOptions& options, double eps,
+                                        ChooseEpsReport& report) {
+  try {
+    return predicted_tet_counts(input, options, eps);
+  } catch (const MeshingError& e) {
+    if (report.failed_probes++ == 0) report.first_failure = "eps " + std::to_string(eps) + ": " + e.what();
+    return std::nullopt;
+  }
+}
+
+// The largest dicing the search considers (the command line's bound for --dice).
+constexpr int kMaxChosenDice = 8;
+
+// Whether a dicing reaches `target` nodes (within the search's 10%) between the counts of the
+// coarsest and the finest eps.
+bool dice_reaches(size_t target, const TetCounts& coarsest, const TetCounts& finest, int dice) {
+  return double(target) >= 0.9 * double(diced_thex_nodes(coarsest, dice)) &&
+         double(target) <= 1.1 * double(diced_thex_nodes(finest, dice));
+}
+
+// PipelineOptions::choose_dice: options.dice when it reaches the target (it fits the boundary
+// better than dice 1, and a higher one would make the tets coarser), else the nearest dicing
+// towards the target that does; when none does, the last one tried (1 or kMaxChosenDice),
+// whose range the caller then reports.
+int choose_dice_for_nodes(size_t target, const TetCounts& coarsest, const TetCounts& finest,
+                          const PipelineOptions& options) {
+  if (!options.choose_dice || dice_reaches(target, coarsest, finest, options.dice)) return options.dice;
+  const int step = double(target) > 1.1 * double(diced_thex_nodes(finest, options.dice)) ? 1 : -1;
+  int dice = options.dice;
+  while (dice + step >= 1 && dice + step <= kMaxChosenDice) {
+    dice += step;
+    if (dice_reaches(target, coarsest, finest, dice)) break;
+  }
+  return dice;
+}
+
+// Bisection on log(eps): the node count falls as eps grows (not strictly: it can step). An eps
+// whose meshing fails is taken as too coarse, so the search goes on towards smaller eps and
+// ends at the nearest one that works. With PipelineOptions::choose_dice the dicing is chosen
+// first, from the counts at the two ends (choose_dice_for_nodes).
+ChooseEpsReport choose_eps_for_nodes(const TriSurface& input, const PipelineOptions& options,
+                                     const std::string& input_path, Progress& progress) {
   const size_t target = options.target_nodes;
-  double fine_eps = 1e-3, coarse_eps = 0.9;
-  const size_t most = predicted_nodes(input, options, fine_eps);
-  const size_t least = predicted_nodes(input, options, coarse_eps);
+  ChooseEpsReport report;
+  report.target_nodes = target;
+  report.preferred_dice = options.dice;
+  report.dice_given = !options.choose_dice;
+  const double fine_eps = 1e-3;
+  const TetCounts finest = predicted_tet_counts(input, options, fine_eps);
+  // The coarse end: eps 0.9, or the largest eps below it (by factors of 0.7) that meshes.
+  double coarse_eps = 0.9;
+  std::optional<TetCounts> coarsest = try_tet_counts(input, options, coarse_eps, report);
+  while (!coarsest) {
+    coarse_eps *= 0.7;
+    if (coarse_eps > fine_eps) {
+      coarsest = try_tet_counts(input, options, coarse_eps, report);
+    } else {
+      coarse_eps = fine_eps;
+      coarsest = finest;
+    }
+  }
+  report.coarsest_eps = coarse_eps;
+  const int dice = choose_dice_for_nodes(target, *coarsest, finest, options);
+  report.dice = dice;
+  report.preferred_least = diced_thex_nodes(*coarsest, options.dice);
+  report.preferred_most = diced_thex_nodes(finest, options.dice);
+  const size_t most = diced_thex_nodes(finest, dice);
+  const size_t least = diced_thex_nodes(*coarsest, dice);
   auto unreachable = [&](const std::string& why) {
     return InputError("--target-nodes " + std::to_string(target) + ": " + input_path + ": " + why);
   };
+  // With choose_dice, `dice` is then the last dicing tried: none reaches the target.
+  const std::string with_dice = std::string(options.choose_dice ? " even" : "") + " with --dice " + std::to_string(dice);
   if (double(target) > 1.1 * double(most))
-    throw unreachable("at most about " + std::to_string(most) + " nodes are reachable with --dice " +
-                      std::to_string(options.dice) + " (eps 0.001, sizes floored at --hmin); use a larger --dice or --hmin");
+    throw unreachable("at most about " + std::to_string(most) + " nodes are reachable" + with_dice +
+                      " (eps 0.001, sizes floored at --hmin); use a " + (dice < kMaxChosenDice ? "larger --dice or " : "") +
+                      "smaller --hmin");
   if (double(target) < 0.9 * double(least))
-    throw unreachable("at least " + std::to_string(least) + " nodes are needed with --dice " +
-                      std::to_string(options.dice) + " (eps 0.9; the topology and --hmax bound the coarsening); "
-                      "use a smaller --dice or a larger --hmax");
+    throw unreachable("at least " + std::to_string(least) + " nodes are needed" + with_dice + " (eps " +
+                      std::to_string(coarse_eps) + "; the topology and --hmax bound the coarsening); use a " +
+                      (dice > 1 ? "smaller --dice or " : "") + "larger --hmax");
   double best_eps = fine_eps;
   size_t best = most;
   auto consider = [&](double eps, size_t nodes) {
@@ -194,14 +263,20 @@ double choose_eps_for_nodes(const TriSurface& input, const PipelineOptions& opti
     progress.update(double(probe + 1) / max_probes);
     if (std::abs(double(best) - double(target)) <= 0.05 * double(target)) break;
     const double mid = 0.5 * (lo + hi);
-    const size_t nodes = predicted_nodes(input, options, std::exp(mid));
+    const std::optional<TetCounts> counts = try_tet_counts(input, options, std::exp(mid), report);
+    if (!counts) {  // too coarse to mesh: towards smaller eps
+      hi = mid;
+      continue;
+    }
+    const size_t nodes = diced_thex_nodes(*counts, dice);
     consider(std::exp(mid), nodes);
     (nodes > target ? lo : hi) = mid;
   }
   if (std::abs(double(best) - double(target)) > 0.1 * double(target))
     throw unreachable("the node count jumps past it; the nearest reachable is " + std::to_string(best) +
-                      " nodes (eps " + std::to_string(best_eps) + ")");
-  return best_eps;
+                      " nodes (eps " + std::to_string(best_eps) + ", dice " + std::to_string(dice) + ")");
+  report.eps = best_eps;
+  return report;
 }
 
 }  // namespace
@@ -288,21 +363,27 @@ struct Meshing {
   }
 };
 
-// PipelineOptions::target_nodes: the eps that gives about that many nodes.
+// PipelineOptions::target_nodes: the eps (and the dicing) that give about that many nodes.
 void choose_eps(Meshing& m) {
   m.stage("choose eps", [&] {
-    m.result.eps = choose_eps_for_nodes(m.result.coarsening_input(), m.options, m.result.input_path, m.progress);
-    return ChooseEpsReport{m.result.eps, m.options.target_nodes};
+    const ChooseEpsReport report =
+        choose_eps_for_nodes(m.result.coarsening_input(), m.options, m.result.input_path, m.progress);
+    m.result.eps = report.eps;
+    m.result.dice = report.dice;
+    return report;
   });
 }
 
-// The coarse surface TetGen meshes: the coarsened input, fixed and verified.
-void coarsen_input(Meshing& m) {
+// One coarsening of coarsen_input at `eps`: stages "coarsen" and "verify coarse". `failed`
+// (the larger eps that failed before) goes into the coarsen report.
+void coarsen_input_at(Meshing& m, double eps, const std::vector<FailedEps>& failed) {
   PipelineResult& result = m.result;
   m.stage("coarsen", [&] {
-    CoarsenOptions coarsen_options = coarsen_options_for(m.options, result.eps);
+    CoarsenOptions coarsen_options = coarsen_options_for(m.options, eps);
     coarsen_options.progress = [&](double f) { m.progress.update(f); };
     CoarsenStageReport report;
+    report.failed = failed;
+    report.eps = eps;
     report.coarsen = coarsen(result.coarsening_input(), coarsen_options, &m.coarsening_bvh);
     result.coarse = std::move(report.coarsen.surface);
     report.coarsen.surface = TriSurface{};
@@ -316,6 +397,35 @@ void coarsen_input(Meshing& m) {
     result.coarse_summary = verify_coarse_surface(result.coarse, result.input_path + " (coarse surface)");
     return result.coarse_summary;
   });
+}
+
+// How often, and by what factor, the eps is made smaller when the coarsening fails there.
+constexpr int kEpsRetries = 4;
+constexpr double kEpsRetryFactor = 0.7;
+
+// The coarse surface TetGen meshes: the coarsened input, fixed and verified. A coarsening that
+// fails (MeshingError: it still self-intersects after its repair rounds, or its surface fails
+// verification) is tried again at kEpsRetryFactor x the eps, up to kEpsRetries times; the
+// "coarsen" stage report lists the eps that failed, and result.eps is the one used.
+void coarsen_input(Meshing& m) {
+  PipelineResult& result = m.result;
+  std::vector<FailedEps> failed;
+  for (int attempt = 0;; ++attempt) {
+    const size_t stages_before = result.stages.size();
+    try {
+      coarsen_input_at(m, result.eps, failed);
+      return;
+    } catch (const MeshingError& e) {
+      if (attempt >= kEpsRetries) throw;
+      failed.push_back(FailedEps{result.eps, e.what()});
+      result.stages.resize(stages_before);  // the failed attempt's records (its time is in total_seconds)
+      const double smaller = result.eps * kEpsRetryFactor;
+      m.progress.end("failed");
+      m.progress.message("eps " + std::to_string(result.eps) + " failed: " + e.what() + "; trying eps " +
+                         std::to_string(smaller));
+      result.eps = smaller;
+    }
+  }
 }
 
 // TetGen's tets of the coarse surface, with projection improved for it (improve_tets_for_projection).
@@ -352,7 +462,7 @@ void split_tets_into_hexes(Meshing& m, TetMesh tets) {
 // Each hex into dice^3.
 void dice_hexes(Meshing& m) {
   m.stage("dice", [&] {
-    m.result.hexes = dice(m.result.hexes, m.options.dice);
+    m.result.hexes = dice(m.result.hexes, m.result.dice);
     return HexCountReport{m.result.hexes.hexes.size()};
   });
 }
@@ -464,6 +574,7 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
   Meshing m{result, options, progress, input_bvh, coarsening_bvh};
   result.thickness_ratio_used = options.thickness_ratio;
   result.eps = options.eps;
+  result.dice = options.dice;
   if (options.target_nodes > 0 && !options.thex_only) choose_eps(m);
   if (options.thex_only) {
     result.coarse = result.input;
@@ -472,7 +583,7 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
     coarsen_input(m);
   }
   split_tets_into_hexes(m, mesh_with_tets(m));
-  if (!options.thex_only && options.dice > 1) dice_hexes(m);
+  if (!options.thex_only && result.dice > 1) dice_hexes(m);
   Conformity conformity;
   if (!options.thex_only && options.project) {
     // The topology is final and projection has not moved a node yet: the boundary quads and

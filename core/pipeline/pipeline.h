@@ -32,7 +32,13 @@ struct PipelineOptions {
   //! volume are dropped too (RemoveSmallIslandsOptions::min_volume_fraction); 0 = none.
   double min_island_volume_fraction = 0;
   double eps = 0.1;                 //!< coarsening factor (sagitta / radius), in (0, 1)
-  int dice = 2;                     //!< each hex into dice^3
+  //! Each hex into dice^3. With target_nodes and choose_dice, the preferred dicing.
+  int dice = 2;
+  //! With target_nodes: when `dice` cannot reach the target (the node range it gives from eps
+  //! 0.9 down to 0.001 misses it), the nearest dicing that can is used instead (1 for a budget
+  //! below it, 3, 4, ... above). Off, such a target is an InputError. The command line turns
+  //! it off when --dice is given.
+  bool choose_dice = true;
   double h_min = 0;                 //!< smallest coarse edge size, input units; 0 = automatic
   double h_max = 0;                 //!< largest coarse edge, input units; 0 = automatic
   double max_edge_ratio = 1.4142135623730951;  //!< no collapse makes an edge longer than this x its size
@@ -67,8 +73,9 @@ struct PipelineOptions {
   double time_limit_seconds = 600;  //!< bound for TetGen and the optimizer each
   bool global_smoothing = false;    //!< smooth the coarse surface globally (the paper's comparison)
   bool judge_after_smoothing = true;  //!< CoarsenOptions::judge_after_smoothing
-  //! If > 0, eps is chosen so the final mesh has about this many nodes (within 10%);
-  //! InputError, with the nearest reachable count, when no eps gets there.
+  //! If > 0, eps (and with choose_dice the dicing) is chosen so the final mesh has about this
+  //! many nodes (within 10%); InputError, with the nearest reachable count, when no eps gets
+  //! there. An eps whose coarsening fails is taken as too coarse by the search.
   size_t target_nodes = 0;
   //! Remesh the input with even triangles before coarsening (remesh_isotropic.h): automatic
   //! when needles are kRemeshNeedleShare or more of its triangles (CAD exports), always, or never.
@@ -78,7 +85,10 @@ struct PipelineOptions {
 
 struct PipelineResult {
   std::string input_path;
-  double eps = 0;                     //!< the coarsening factor used (chosen by --target-nodes or given)
+  //! The coarsening factor used: chosen by --target-nodes or given, and smaller than that when
+  //! the coarsening failed there (the "coarsen" stage report says so).
+  double eps = 0;
+  int dice = 0;                       //!< the dicing used (PipelineOptions::dice, or chosen for target_nodes)
   TriSurface input;                   //!< as read, repaired (PipelineOptions::repair) and verified
   SurfaceRepairReport repairs;        //!< what the safe repairs did (`ran` false with --repair none)
   SurfaceSummary input_summary;

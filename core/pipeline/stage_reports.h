@@ -23,6 +23,7 @@
 
 #include <string>
 #include <variant>
+#include <vector>
 
 namespace dthex {
 
@@ -61,15 +62,36 @@ struct ThinWallReport {
   size_t vertices = 0;
 };
 
-//! Stage "choose eps" (PipelineOptions::target_nodes).
+//! Stage "choose eps" (PipelineOptions::target_nodes): the eps and the dicing chosen, and why
+//! that dicing.
 struct ChooseEpsReport {
   double eps = 0;
   size_t target_nodes = 0;
+  int dice = 0;                 //!< the dicing used
+  int preferred_dice = 0;       //!< PipelineOptions::dice
+  bool dice_given = false;      //!< PipelineOptions::choose_dice off: `dice` is the one given
+  //! The node range the preferred dicing reaches: at the coarsest eps that coarsens (0.9 unless
+  //! that fails) and at eps 0.001.
+  size_t preferred_least = 0, preferred_most = 0;
+  double coarsest_eps = 0;      //!< the coarsest eps whose coarsening succeeded
+  size_t failed_probes = 0;     //!< eps tried whose coarsening failed (taken as too coarse)
+  std::string first_failure;    //!< the first such failure's message
+};
+
+//! An eps at which the coarsening (or the coarse surface's verification) failed, so the
+//! pipeline tried a smaller one.
+struct FailedEps {
+  double eps = 0;
+  std::string failure;
 };
 
 //! Stage "coarsen": the coarsening's report (its surface and sizes are not kept here: the
 //! surface is PipelineResult::coarse), then the fixes made before TetGen.
 struct CoarsenStageReport {
+  //! The larger eps tried first, in order, whose coarsening failed (PipelineResult::eps is the
+  //! one that worked).
+  std::vector<FailedEps> failed;
+  double eps = 0;                      //!< the eps of this coarsening
   CoarsenResult coarsen;               //!< surface and sizes emptied
   size_t triangles = 0;                //!< of the coarsened surface, before the fixes
   size_t flat_valence3_removed = 0;    //!< remove_flat_valence3_vertices (with projection)

@@ -87,12 +87,33 @@ std::string text(const ThinWallReport& r) {
   return count_text("input vertices", r.vertices) + " on walls thinner than their size";
 }
 
+std::string short_number(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.4g", value);
+  return buffer;
+}
+
 std::string text(const ChooseEpsReport& r) {
-  return "eps " + std::to_string(r.eps) + " for about " + std::to_string(r.target_nodes) + " nodes";
+  std::string out = "eps " + std::to_string(r.eps) + " for about " + std::to_string(r.target_nodes) + " nodes, dice " +
+                    std::to_string(r.dice);
+  const std::string range = std::to_string(r.preferred_least) + "-" + std::to_string(r.preferred_most);
+  if (r.dice_given)
+    out += " as given";
+  else if (r.dice == r.preferred_dice)
+    out += " (it reaches " + range + " nodes)";
+  else
+    out += " (dice " + std::to_string(r.preferred_dice) + " reaches only " + range + " nodes)";
+  if (r.failed_probes)
+    out += "; the coarsening failed at " + count_text("eps tried", r.failed_probes) + ", taken as too coarse (first: " +
+           r.first_failure + ")";
+  return out;
 }
 
 std::string text(const CoarsenStageReport& r) {
-  std::string out = count_text("triangles", r.triangles);
+  std::string out;
+  for (const FailedEps& f : r.failed) out += "eps " + short_number(f.eps) + " failed: " + f.failure + "; ";
+  if (!r.failed.empty()) out += "used " + short_number(r.eps) + ": ";
+  out += count_text("triangles", r.triangles);
   if (r.coarsen.thin_wall_vertices)
     out += " (" + count_text("input vertices", r.coarsen.thin_wall_vertices) + " sized by wall thickness)";
   if (r.coarsen.cut_vertices)
@@ -239,11 +260,23 @@ json fields(const RemeshStageReport& r) {
 
 json fields(const ThinWallReport& r) { return {{"thin_wall_vertices", r.vertices}}; }
 
-json fields(const ChooseEpsReport& r) { return {{"eps", r.eps}, {"target_nodes", r.target_nodes}}; }
+json fields(const ChooseEpsReport& r) {
+  return {{"eps", r.eps},
+          {"target_nodes", r.target_nodes},
+          {"dice", r.dice},
+          {"dice_reason", r.dice_given                     ? "given"
+                          : r.dice == r.preferred_dice     ? "preferred_reaches_target"
+                                                           : "preferred_cannot_reach_target"},
+          {"preferred_dice", r.preferred_dice},
+          {"preferred_dice_nodes", {r.preferred_least, r.preferred_most}},
+          {"coarsest_eps", r.coarsest_eps},
+          {"failed_probes", r.failed_probes},
+          {"first_failure", r.first_failure}};
+}
 
 json fields(const CoarsenStageReport& s) {
   const CoarsenResult& c = s.coarsen;
-  return {{"triangles", s.triangles},
+  json j = {{"triangles", s.triangles},
           {"input_vertices", c.input_vertices},
           {"collapses", c.collapses},
           {"swaps", c.swaps},
@@ -261,6 +294,14 @@ json fields(const CoarsenStageReport& s) {
           {"flat_needles_after", s.needles.needles_after},
           {"flat_needle_vertices_added", s.needles.vertices_added},
           {"flat_needle_flips", s.needles.flips}};
+  // The larger eps whose coarsening failed first (only when one did).
+  if (!s.failed.empty()) {
+    json failed = json::array();
+    for (const FailedEps& f : s.failed) failed.push_back({{"eps", f.eps}, {"failure", f.failure}});
+    j["eps"] = s.eps;
+    j["failed_eps"] = failed;
+  }
+  return j;
 }
 
 json fields(const TetrahedralizeReport& r) { return {{"tets", r.tets}}; }
@@ -458,7 +499,7 @@ std::string summary_table(const PipelineResult& r, const PipelineOptions& o) {
   if (o.thex_only)
     out << " (THex only)";
   else
-    out << " (eps " << r.eps << ", dice " << o.dice << (o.project ? "" : ", not projected") << ")";
+    out << " (eps " << r.eps << ", dice " << r.dice << (o.project ? "" : ", not projected") << ")";
   out << "\n";
   out << describe(r.repairs);
   out << "  stage                  seconds  result\n";
@@ -549,7 +590,7 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
                   {"min_island_volume_fraction", o.min_island_volume_fraction},
                   {"eps", r.eps},
                   {"target_nodes", o.target_nodes},
-                  {"dice", o.dice},
+                  {"dice", r.dice},
                   {"h_min", o.h_min},
                   {"h_max", o.h_max},
                   {"max_edge_ratio", o.max_edge_ratio},

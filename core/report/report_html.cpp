@@ -647,7 +647,7 @@ std::string report_html(const PipelineResult& r, const PipelineOptions& options,
     page << "eps " << number(r.eps, 4) << (options.target_nodes ? " (chosen for --target-nodes " +
                                                                       std::to_string(options.target_nodes) + ")"
                                                                 : std::string())
-         << ", dice " << options.dice << (options.project ? "" : ", not projected");
+         << ", dice " << r.dice << (options.project ? "" : ", not projected");
   page << ", TetGen " << escape_html(tetgen_switches_for(options)) << " &middot; input " << r.input_summary.vertices
        << " vertices, " << r.input_summary.triangles << " triangles, genus " << r.input_summary.genus << "</p>\n";
 

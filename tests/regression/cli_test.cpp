@@ -44,7 +44,7 @@ TEST(Cli, HelpExplainsEveryOption) {
   EXPECT_EQ(r.exit_code, 0);
   for (const char* option : {"--output", "--eps", "--dice", "--hmax", "--thickness-ratio", "--thex-only", "--no-project", "--strict",
                              "--tetgen", "--time-limit", "--report", "--coarse-surface", "--quiet", "--verbose", "--repair",
-                             "--min-island"})
+                             "--min-island", "--target-nodes"})
     EXPECT_NE(r.out.find(option), std::string::npos) << option;
 }
 
@@ -212,7 +212,43 @@ TEST(Cli, TargetNodesLandWithinTenPercent) {
   EXPECT_EQ(low.exit_code, 2);
   EXPECT_NE(low.err.find("--target-nodes"), std::string::npos) << low.err;
   EXPECT_NE(low.err.find("at least"), std::string::npos) << low.err;
+  EXPECT_NE(low.err.find("even with --dice 1"), std::string::npos) << low.err;  // below every dicing
   EXPECT_FALSE(fs::exists(dir / "low.vtu"));
+}
+
+// A budget below what dice 2 can reach (the liver needs at least about 5,400 nodes with it)
+// is met with dice 1 when --dice is not given; the report says which dicing and why. With
+// --dice 2 given the budget is refused as before, naming that dicing.
+TEST(Cli, TargetNodesBelowDiceTwoChoosesDiceOne) {
+  const fs::path dir = scratch("target_dice");
+  const fs::path report = dir / "r.json";
+  const size_t target = 2000;
+  const CommandRun r = om_dthex(mesh("liver.off") + " --target-nodes " + std::to_string(target) + " -o " +
+                                    (dir / "o.vtu").string() + " --report " + report.string(),
+                                dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(read_bytes(report));
+  EXPECT_NEAR(j["hex"]["nodes"].get<double>(), double(target), 0.1 * double(target));
+  EXPECT_EQ(j["options"]["dice"].get<int>(), 1);
+  nlohmann::json choose;
+  for (const auto& stage : j["stages"])
+    if (stage["name"] == "choose eps") choose = stage;
+  ASSERT_FALSE(choose.is_null());
+  EXPECT_EQ(choose["report"]["dice"].get<int>(), 1);
+  EXPECT_EQ(choose["report"]["dice_reason"].get<std::string>(), "preferred_cannot_reach_target");
+  // Dice 2's range misses the target from above.
+  EXPECT_GT(0.9 * choose["report"]["preferred_dice_nodes"][0].get<double>(), double(target));
+  EXPECT_NE(choose["summary"].get<std::string>().find("dice 1 (dice 2 reaches only"), std::string::npos)
+      << choose["summary"];
+  EXPECT_NE(r.out.find("dice 1)"), std::string::npos) << r.out;  // the summary's first line
+
+  const CommandRun given = om_dthex(mesh("liver.off") + " -q --dice 2 --target-nodes " + std::to_string(target) +
+                                        " -o " + (dir / "given.vtu").string(),
+                                    dir);
+  EXPECT_EQ(given.exit_code, 2);
+  EXPECT_NE(given.err.find("at least"), std::string::npos) << given.err;
+  EXPECT_NE(given.err.find("with --dice 2"), std::string::npos) << given.err;
+  EXPECT_FALSE(fs::exists(dir / "given.vtu"));
 }
 
 // What om_dthex runs with no option is what the library's PipelineOptions hold, to the last
