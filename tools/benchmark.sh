@@ -15,6 +15,12 @@
 #                                              (a partial table: use with --output, --no-readme)
 #   bash tools/benchmark.sh --source-commit REV  the commit the binary was built from, when the
 #                                              build folder's sources have moved on since
+#   bash tools/benchmark.sh --peers DIR        inputs NAME.off with published meshes NAME_*.vtu
+#                                              beside them (default ../shared/meshes/peer; "" or a
+#                                              missing folder: the comparison is left out)
+#   bash tools/benchmark.sh --peers-only       only the comparison with published meshes: it
+#                                              replaces that section of the output file, the rest
+#                                              stays as measured before
 #
 # Each run is a child process of the harness with a timeout (--timeout, default 400 s).
 # Wall-clock seconds depend on the machine and on what else runs on it: run it on an idle one.
@@ -30,6 +36,8 @@ update_readme=1
 output=docs/BENCHMARKS.md
 only=""
 source_commit=""
+peers=../shared/meshes/peer
+peers_only=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build=$2; shift 2 ;;
@@ -40,7 +48,9 @@ while [ $# -gt 0 ]; do
     --only) only=$2; shift 2 ;;
     --source-commit) source_commit=$2; shift 2 ;;
     --output) output=$2; shift 2 ;;
-    -h|--help) sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --peers) peers=$2; shift 2 ;;
+    --peers-only) peers_only=1; update_readme=0; shift ;;
+    -h|--help) sed -n '2,26p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "benchmark.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -66,7 +76,10 @@ elif git -C "$source_dir" rev-parse --git-dir >/dev/null 2>&1; then
     tree="clean"
   fi
   # A binary older than the commit was built from an earlier one (or the build is stale).
-  if [ "$(stat -c %Y "$bench")" -lt "$(git -C "$source_dir" log -1 --format=%ct)" ]; then
+  # (With --peers-only the binary that runs is om_dthex.)
+  checked=$bench
+  if [ "$peers_only" = 1 ]; then checked=$build/om_dthex; shown="$(basename "$build")/om_dthex"; fi
+  if [ "$(stat -c %Y "$checked")" -lt "$(git -C "$source_dir" log -1 --format=%ct)" ]; then
     tree="$tree; but $shown is older than this commit, so it may be an earlier one's"
   fi
 else
@@ -97,8 +110,127 @@ TIMEFORMAT='%3U %3S'
 busy_before=$(machine_busy)
 wall_before=$(date +%s.%N)
 
-echo "benchmark.sh: bundled meshes ($bench, timeout $timeout s per run)" >&2
 status=0
+
+# The comparison with published meshes (--peers): for each DIR/NAME.off with published meshes
+# DIR/NAME_SOURCE.vtu beside it, om_dthex at the published node count (--target-nodes, dicing
+# chosen), then both meshes measured by one program of ours, build/hex_quality (the quality,
+# conformity and distance code om_dthex reports with). The published .vtu files are
+# zlib-compressed binary (meshio writes them), so meshio turns them into legacy ASCII VTK first.
+# Writes $work/peers.md, the section between the peer-table markers.
+peer_section() {
+  local dir=$1
+  {
+    echo "<!-- peer-table:begin -->"
+    echo "## Against published meshes"
+    echo
+    if [ -z "$dir" ] || [ ! -d "$dir" ]; then
+      echo "Left out: no folder of published meshes (\`--peers ${dir:-\"\"}\`)."
+    elif ! /usr/bin/python3 -c 'import meshio' 2>/dev/null; then
+      echo "Left out: /usr/bin/python3 has no meshio (Debian python3-meshio) to read the published meshes."
+    elif [ ! -x "$build/om_dthex" ] || [ ! -x "$build/hex_quality" ]; then
+      echo "Left out: $build/om_dthex or $build/hex_quality is not built."
+    else
+      peer_rows "$dir"
+    fi
+    echo "<!-- peer-table:end -->"
+  } >"$work/peers.md"
+}
+
+# The measured columns of one row, from hex_quality's JSON: nodes, hexes, avg shape, min SJ,
+# inverted, conforming, Hausdorff %, volume %.
+measured_cells() {
+  local nodes hexes shape sj inverted conforming hausdorff volume
+  read -r nodes hexes shape sj inverted conforming hausdorff volume < <(jq -r '[.nodes, .hexes, .shape.avg,
+    .scaled_jacobian.min, .inverted, (if .conforming then "yes" else "no" end), .hausdorff_pct_diagonal,
+    .volume_pct] | @tsv' "$1")
+  printf '| %s | %s | %.3f | %.3f | %s | %s | %.2f | %+.2f |' "$nodes" "$hexes" "$shape" "$sj" "$inverted" \
+    "$conforming" "$hausdorff" "$volume"
+}
+
+# The table of peer_section: two rows per published mesh, it and ours.
+peer_rows() {
+  local dir=$1
+  cat >"$work/to_legacy_vtk.py" <<'PYTHON'
+import sys, meshio
+mesh = meshio.read(sys.argv[1])
+hexes = [block.data for block in mesh.cells if block.type == "hexahedron"]
+count = sum(len(block) for block in hexes)
+with open(sys.argv[2], "w") as out:
+    out.write("# vtk DataFile Version 4.2\nhexahedra\nASCII\nDATASET UNSTRUCTURED_GRID\n")
+    out.write("POINTS %d double\n" % len(mesh.points))
+    for p in mesh.points:
+        out.write("%.17g %.17g %.17g\n" % (p[0], p[1], p[2]))
+    out.write("CELLS %d %d\n" % (count, 9 * count))
+    for block in hexes:
+        for h in block:
+            out.write("8 %s\n" % " ".join(str(int(v)) for v in h))
+    out.write("CELL_TYPES %d\n" % count)
+    out.write("12\n" * count)
+PYTHON
+  echo "Measured $(date -u '+%Y-%m-%d %H:%M UTC'), commit \`$commit\` ($tree), on $cpu ($cores cores),"
+  echo "load average $(cut -d' ' -f1-3 /proc/loadavg) at the start. For each input \`NAME.off\` in \`$dir\` and"
+  echo "each published mesh \`NAME_SOURCE.vtu\` beside it: \`om_dthex NAME.off --target-nodes N\` with N the"
+  echo "published mesh's node count (the dicing chosen, as without \`--dice\`), and both meshes measured by"
+  echo "\`$(basename "$build")/hex_quality\` (our own quality, conformity and distance code, the figures om_dthex reports;"
+  echo "the published .vtu turned into legacy VTK by meshio). Hausdorff is in % of the input's"
+  echo "bounding-box diagonal, volume against the input's; seconds are om_dthex's total (published"
+  echo "meshes: see their paper)."
+  echo
+  echo "| surface | mesh | nodes | hexes | avg shape | min SJ | inverted | conforming | Hausdorff % | volume % | seconds |"
+  echo "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+  local input published name source nodes seconds error
+  for input in "$dir"/*.off; do
+    name=$(basename "$input" .off)
+    for published in "$dir/$name"_*.vtu; do
+      [ -e "$published" ] || continue
+      source=$(basename "$published" .vtu); source=${source#"$name"_}
+      echo "benchmark.sh: $name against $source" >&2
+      if ! /usr/bin/python3 "$work/to_legacy_vtk.py" "$published" "$work/published.vtk" 2>"$work/err" ||
+        ! "$build/hex_quality" "$work/published.vtk" "$input" >"$work/published.json" 2>>"$work/err"; then
+        echo "| $name | $source | not read: $(head -n 1 "$work/err") | | | | | | | | |"
+        status=1
+        continue
+      fi
+      nodes=$(jq -r .nodes "$work/published.json")
+      echo "| $name | $source (published) $(measured_cells "$work/published.json") |"
+      rm -f "$work/ours.vtk" "$work/ours.json"
+      { time timeout "$timeout" "$build/om_dthex" "$input" -q --target-nodes "$nodes" -o "$work/ours.vtk" \
+          --report "$work/ours.json" 2>"$work/err"; } 2>>"$work/cpu" || true
+      if [ ! -s "$work/ours.json" ] || ! "$build/hex_quality" "$work/ours.vtk" "$input" >"$work/measured.json" 2>>"$work/err"; then
+        error=$(grep -v '^$' "$work/err" | head -n 1 | sed 's/^om_dthex: //; s/|/\\|/g')
+        echo "| $name | om_dthex --target-nodes $nodes | failed: ${error:-timed out after $timeout s} | | | | | | | | |"
+        status=1
+        continue
+      fi
+      seconds=$(jq -r .total_seconds "$work/ours.json")
+      printf '| %s | om_dthex (eps %.3g, dice %s) %s %.1f |\n' "$name" "$(jq -r .options.eps "$work/ours.json")" \
+        "$(jq -r .options.dice "$work/ours.json")" "$(measured_cells "$work/measured.json")" "$seconds"
+    done
+  done
+}
+
+# --peers-only: that section alone, put in place of the one in the output file (or after it).
+if [ "$peers_only" = 1 ]; then
+  echo "benchmark.sh: published meshes only (--peers ${peers:-\"\"})" >&2
+  peer_section "$peers"
+  mkdir -p "$(dirname "$output")"
+  touch "$output"
+  if grep -q '<!-- peer-table:begin -->' "$output"; then
+    awk -v table="$work/peers.md" '
+      /<!-- peer-table:begin -->/ { while ((getline line < table) > 0) print line; skipping = 1; next }
+      /<!-- peer-table:end -->/ { skipping = 0; next }
+      !skipping { print }' "$output" >"$work/output.md"
+  else
+    { cat "$output"; echo; cat "$work/peers.md"; } >"$work/output.md"
+  fi
+  cat "$work/output.md" >"$output"
+  echo "benchmark.sh: wrote the published-mesh section of $output" >&2
+  cat "$work/peers.md"
+  exit "$status"
+fi
+
+echo "benchmark.sh: bundled meshes ($bench, timeout $timeout s per run)" >&2
 { time "$bench" --meshes meshes ${only:+--only "$only"} --timeout "$timeout" --markdown --csv "$work/bundled.csv" \
     >"$work/bundled.md" 2>&3 || status=$?; } 3>&2 2>>"$work/cpu"
 for k in $scaling; do
@@ -106,6 +238,7 @@ for k in $scaling; do
   { time "$bench" "$scaling_mesh" --methods dthex --subdivide "$k" --work-dir "$work/subdivided" --timeout "$timeout" \
       --markdown --csv "$work/scaling_$k.csv" >"$work/scaling_$k.md" 2>&3 || status=$?; } 3>&2 2>>"$work/cpu"
 done
+peer_section "$peers"
 finished=$(date -u '+%H:%M UTC')
 busy_after=$(machine_busy)
 wall_after=$(date +%s.%N)
@@ -210,6 +343,8 @@ mkdir -p "$(dirname "$output")"
       echo
     done
   fi
+  echo
+  cat "$work/peers.md"
 } >"$output"
 echo "benchmark.sh: wrote $output" >&2
 
