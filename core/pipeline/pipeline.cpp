@@ -177,6 +177,22 @@ std::optional<TetCounts> try_tet_counts(const TriSurface& input, const PipelineO
   }
 }
 
+// The factor between the eps tried when one fails (the search's ends, and a given eps).
+constexpr double kEpsStep = 0.7;
+
+// The counts at `eps`, or, when its meshing fails, at the nearest eps that works stepping by
+// `factor` (below 1 towards smaller eps, above towards larger) while it stays short of
+// `limit`; `eps` becomes the one counted. Nothing when none works.
+std::optional<TetCounts> nearest_tet_counts(const TriSurface& input, const PipelineOptions& options, double& eps,
+                                            double factor, double limit, ChooseEpsReport& report) {
+  for (double tried = eps; factor < 1 ? tried > limit : tried < limit; tried *= factor)
+    if (std::optional<TetCounts> counts = try_tet_counts(input, options, tried, report)) {
+      eps = tried;
+      return counts;
+    }
+  return std::nullopt;
+}
+
 // The largest dicing the search considers (the command line's bound for --dice).
 constexpr int kMaxChosenDice = 8;
 
@@ -203,10 +219,12 @@ int choose_dice_for_nodes(size_t target, const TetCounts& coarsest, const TetCou
   return dice;
 }
 
-// Bisection on log(eps): the node count falls as eps grows (not strictly: it can step). An eps
-// whose meshing fails is taken as too coarse, so the search goes on towards smaller eps and
-// ends at the nearest one that works. With PipelineOptions::choose_dice the dicing is chosen
-// first, from the counts at the two ends (choose_dice_for_nodes).
+// Bisection on log(eps) between 0.001 and 0.9: the node count falls as eps grows (not
+// strictly: it can step). Where the meshing fails at an end, the nearest eps inside that works
+// is the end instead (a remeshed CAD part can fail at the finest, a thin wall at the coarsest);
+// a failing probe between them is taken as too coarse, so the search goes on towards smaller
+// eps. With PipelineOptions::choose_dice the dicing is chosen first, from the counts at the two
+// ends (choose_dice_for_nodes).
 ChooseEpsReport choose_eps_for_nodes(const TriSurface& input, const PipelineOptions& options,
                                      const std::string& input_path, Progress& progress) {
   const size_t target = options.target_nodes;
@@ -214,20 +232,20 @@ ChooseEpsReport choose_eps_for_nodes(const TriSurface& input, const PipelineOpti
   report.target_nodes = target;
   report.preferred_dice = options.dice;
   report.dice_given = !options.choose_dice;
-  const double fine_eps = 1e-3;
-  const TetCounts finest = predicted_tet_counts(input, options, fine_eps);
-  // The coarse end: eps 0.9, or the largest eps below it (by factors of 0.7) that meshes.
+  // The fine end: eps 0.001, or the nearest larger eps that meshes; the coarse end: eps 0.9,
+  // or the nearest smaller eps that meshes (the fine end itself at worst).
+  double fine_eps = 1e-3;
+  const std::optional<TetCounts> fine = nearest_tet_counts(input, options, fine_eps, 1 / kEpsStep, 0.9, report);
+  if (!fine)
+    throw MeshingError("every eps from 0.001 to 0.9 failed (first: " + report.first_failure + ")");
+  const TetCounts finest = *fine;
   double coarse_eps = 0.9;
-  std::optional<TetCounts> coarsest = try_tet_counts(input, options, coarse_eps, report);
-  while (!coarsest) {
-    coarse_eps *= 0.7;
-    if (coarse_eps > fine_eps) {
-      coarsest = try_tet_counts(input, options, coarse_eps, report);
-    } else {
-      coarse_eps = fine_eps;
-      coarsest = finest;
-    }
+  std::optional<TetCounts> coarsest = nearest_tet_counts(input, options, coarse_eps, kEpsStep, fine_eps, report);
+  if (!coarsest) {
+    coarse_eps = fine_eps;
+    coarsest = finest;
   }
+  report.finest_eps = fine_eps;
   report.coarsest_eps = coarse_eps;
   const int dice = choose_dice_for_nodes(target, *coarsest, finest, options);
   report.dice = dice;
@@ -240,9 +258,17 @@ ChooseEpsReport choose_eps_for_nodes(const TriSurface& input, const PipelineOpti
   };
   // With choose_dice, `dice` is then the last dicing tried: none reaches the target.
   const std::string with_dice = std::string(options.choose_dice ? " even" : "") + " with --dice " + std::to_string(dice);
+  // Between two dicings' ranges (a thin-walled input keeps many nodes at any eps).
+  for (int d = 1; options.choose_dice && d < kMaxChosenDice; ++d)
+    if (double(target) > 1.1 * double(diced_thex_nodes(finest, d)) &&
+        double(target) < 0.9 * double(diced_thex_nodes(*coarsest, d + 1)))
+      throw unreachable("it lies between what --dice " + std::to_string(d) + " reaches (at most about " +
+                        std::to_string(diced_thex_nodes(finest, d)) + " nodes) and what --dice " +
+                        std::to_string(d + 1) + " needs (at least " +
+                        std::to_string(diced_thex_nodes(*coarsest, d + 1)) + "); use --hmin or --hmax to widen them");
   if (double(target) > 1.1 * double(most))
-    throw unreachable("at most about " + std::to_string(most) + " nodes are reachable" + with_dice +
-                      " (eps 0.001, sizes floored at --hmin); use a " + (dice < kMaxChosenDice ? "larger --dice or " : "") +
+    throw unreachable("at most about " + std::to_string(most) + " nodes are reachable" + with_dice + " (eps " +
+                      std::to_string(fine_eps) + ", sizes floored at --hmin); use a " + (dice < kMaxChosenDice ? "larger --dice or " : "") +
                       "smaller --hmin");
   if (double(target) < 0.9 * double(least))
     throw unreachable("at least " + std::to_string(least) + " nodes are needed" + with_dice + " (eps " +
@@ -401,7 +427,7 @@ void coarsen_input_at(Meshing& m, double eps, const std::vector<FailedEps>& fail
 
 // How often, and by what factor, the eps is made smaller when the coarsening fails there.
 constexpr int kEpsRetries = 4;
-constexpr double kEpsRetryFactor = 0.7;
+constexpr double kEpsRetryFactor = kEpsStep;
 
 // The coarse surface TetGen meshes: the coarsened input, fixed and verified. A coarsening that
 // fails (MeshingError: it still self-intersects after its repair rounds, or its surface fails

@@ -70,11 +70,13 @@ struct ChooseEpsReport {
   int dice = 0;                 //!< the dicing used
   int preferred_dice = 0;       //!< PipelineOptions::dice
   bool dice_given = false;      //!< PipelineOptions::choose_dice off: `dice` is the one given
-  //! The node range the preferred dicing reaches: at the coarsest eps that coarsens (0.9 unless
-  //! that fails) and at eps 0.001.
+  //! The node range the preferred dicing reaches, at the search's two ends.
   size_t preferred_least = 0, preferred_most = 0;
-  double coarsest_eps = 0;      //!< the coarsest eps whose coarsening succeeded
-  size_t failed_probes = 0;     //!< eps tried whose coarsening failed (taken as too coarse)
+  //! The ends of the search: 0.001 and 0.9, or the nearest eps to them whose meshing works.
+  double finest_eps = 0, coarsest_eps = 0;
+  //! Eps tried whose meshing failed (at an end, the next one towards the other is tried; in
+  //! the bisection, it is taken as too coarse).
+  size_t failed_probes = 0;
   std::string first_failure;    //!< the first such failure's message
 };
 

@@ -104,8 +104,8 @@ std::string text(const ChooseEpsReport& r) {
   else
     out += " (dice " + std::to_string(r.preferred_dice) + " reaches only " + range + " nodes)";
   if (r.failed_probes)
-    out += "; the coarsening failed at " + count_text("eps tried", r.failed_probes) + ", taken as too coarse (first: " +
-           r.first_failure + ")";
+    out += "; the meshing failed at " + count_text("eps tried", r.failed_probes) +
+           ", the nearest eps that works taken instead (first: " + r.first_failure + ")";
   return out;
 }
 
@@ -269,6 +269,7 @@ json fields(const ChooseEpsReport& r) {
                                                            : "preferred_cannot_reach_target"},
           {"preferred_dice", r.preferred_dice},
           {"preferred_dice_nodes", {r.preferred_least, r.preferred_most}},
+          {"finest_eps", r.finest_eps},
           {"coarsest_eps", r.coarsest_eps},
           {"failed_probes", r.failed_probes},
           {"first_failure", r.first_failure}};

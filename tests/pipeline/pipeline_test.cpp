@@ -11,6 +11,7 @@
 
 #include "scratch_dir.h"
 
+#include <filesystem>
 #include <string>
 
 namespace {
@@ -95,5 +96,43 @@ TEST(PipelineEpsFallback, TargetNodesSearchTakesAFailedCoarseningAsTooCoarse) {
   const CoarsenStageReport* coarsen_report = result.stage_report<CoarsenStageReport>("coarsen");
   ASSERT_NE(coarsen_report, nullptr);
   EXPECT_TRUE(coarsen_report->failed.empty());
+  EXPECT_NEAR(double(result.hexes.nodes.size()), double(options.target_nodes), 0.1 * double(options.target_nodes));
+}
+
+// The shell keeps about 11,400 nodes with dice 1 at every eps and several times that with
+// dice 2: a budget between the two is refused naming both ranges, not "even with --dice 1".
+TEST(PipelineEpsFallback, TargetNodesBetweenTwoDicingsIsRefusedNamingBoth) {
+  const std::string path = eccentric_shell_file();
+  PipelineOptions options = fast_options();
+  options.target_nodes = 30000;
+  Progress quiet;
+  try {
+    run_pipeline(path, options, quiet);
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("between what --dice 1 reaches"), std::string::npos) << message;
+    EXPECT_NE(message.find("what --dice 2 needs"), std::string::npos) << message;
+  }
+}
+
+// A shared CAD part (remeshed first, as a CAD export is) whose coarsening still
+// self-intersects after its repair rounds at the finest eps, 0.001: the search starts from the
+// nearest larger eps that works instead of failing, and meets the budget (with dice 1).
+TEST(PipelineEpsFallback, TargetNodesSearchPassesOverAFailingFineEnd) {
+  const std::string path = std::string(DTHEX_SHARED_DIR) + "/meshes/fandisk.off";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is not there";
+  PipelineOptions options;
+  options.project = false;
+  options.target_nodes = 15000;
+  Progress quiet;
+  PipelineResult result;
+  ASSERT_NO_THROW(result = run_pipeline(path, options, quiet));
+  const ChooseEpsReport* choose = result.stage_report<ChooseEpsReport>("choose eps");
+  ASSERT_NE(choose, nullptr);
+  EXPECT_GE(choose->failed_probes, 1u);
+  EXPECT_NE(choose->first_failure.find("eps 0.001000: coarsening:"), std::string::npos) << choose->first_failure;
+  EXPECT_GT(choose->finest_eps, 0.001);
+  EXPECT_GE(result.eps, choose->finest_eps);
   EXPECT_NEAR(double(result.hexes.nodes.size()), double(options.target_nodes), 0.1 * double(options.target_nodes));
 }
