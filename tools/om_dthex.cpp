@@ -42,7 +42,7 @@ std::string sets_summary(const dthex::MeshSets& sets) {
   for (const auto& s : sets.surfaces)
     if (s.name.rfind("patch", 0) != 0 && s.name.find("_boundary") == std::string::npos)
       user += "\n  set " + s.name + ": " + std::to_string(s.faces.size()) + " faces";
-  return "  parts: " + std::to_string(sets.parts.size()) + parts + "\n  boundary patches at creases: " +
+  return "  parts: " + std::to_string(sets.parts.size()) + parts + "\n  boundary patches at planar regions and creases: " +
          std::to_string(patch_count) + patches + user + "\n";
 }
 

@@ -5,6 +5,7 @@
 #include <dthex/mesh/triangle_bvh.h>
 #include <dthex/surface/features.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -17,6 +18,13 @@
 
 namespace dthex {
 namespace {
+
+// A planar region is kept only if its in-plane spread across is at least this fraction of its
+// spread along (the square roots of the in-plane covariance's eigenvalues).
+constexpr double kPlanarMinSpreadRatio = 0.25;
+// A hole in a planar region (other triangles bordered by it alone) joins it below this fraction
+// of its area.
+constexpr double kPlanarHoleFraction = 0.05;
 
 // Union-find over nodes with path halving.
 struct DisjointSets {
@@ -127,10 +135,153 @@ std::vector<int> patches_by_hex_creases(const HexMesh& mesh, const std::vector<s
   return label;
 }
 
-// Patch labels of boundary quads from the input surface: its triangles joined across every
-// edge that is not a feature edge, and each quad labelled by the triangle closest to its centre.
+// The triangles beside each triangle across its edges of exactly two triangles.
+std::vector<std::vector<int>> triangle_neighbours(const TriSurface& input) {
+  std::vector<std::pair<std::array<int, 2>, int>> edge_uses;
+  edge_uses.reserve(3 * input.triangles.size());
+  for (size_t t = 0; t < input.triangles.size(); ++t)
+    for (int i = 0; i < 3; ++i) {
+      const int a = input.triangles[t][size_t(i)], b = input.triangles[t][size_t((i + 1) % 3)];
+      edge_uses.push_back({{std::min(a, b), std::max(a, b)}, int(t)});
+    }
+  std::sort(edge_uses.begin(), edge_uses.end());
+  std::vector<std::vector<int>> neighbours(input.triangles.size());
+  for (size_t i = 0; i < edge_uses.size();) {
+    size_t j = i;
+    while (j < edge_uses.size() && edge_uses[j].first == edge_uses[i].first) ++j;
+    if (j - i == 2) {
+      neighbours[size_t(edge_uses[i].second)].push_back(edge_uses[i + 1].second);
+      neighbours[size_t(edge_uses[i + 1].second)].push_back(edge_uses[i].second);
+    }
+    i = j;
+  }
+  return neighbours;
+}
+
+// Per input triangle, the planar region it belongs to, or -1 (docs/METHOD.md, Sets for the
+// solver). A region grows from each triangle not yet tried, in index order, across edges to
+// triangles whose normal is within the angle of the region's plane and whose corners are within
+// the distance of it; the plane (area-weighted mean normal through the area-weighted centroid)
+// is refitted as the region grows. A region is kept when its area is at least the fraction of
+// the surface's and it is not a band (across its plane it spreads at least a quarter as far as
+// along: a band is what a tolerance finds on a gently curved surface); otherwise its triangles
+// are released, and not tried as seeds again. Last, a small hole (a group of other triangles
+// bordered by one region only, under a twentieth of its area) is given to its region.
+std::vector<int> planar_regions(const TriSurface& input, const std::vector<std::vector<int>>& neighbours,
+                                const MeshSetsOptions& options) {
+  const size_t n = input.triangles.size();
+  std::vector<int> region(n, -1);
+  if (options.planar_min_area_fraction <= 0 || options.planar_min_area_fraction > 1 || n == 0) return region;
+  std::vector<Vec3> normal(n), centroid(n);
+  std::vector<double> area(n);
+  double total_area = 0;
+  Vec3 lo = input.points.front(), hi = input.points.front();
+  for (const Vec3& p : input.points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  for (size_t t = 0; t < n; ++t) {
+    const Vec3& a = input.points[size_t(input.triangles[t][0])];
+    const Vec3& b = input.points[size_t(input.triangles[t][1])];
+    const Vec3& c = input.points[size_t(input.triangles[t][2])];
+    const Vec3 cross = (b - a).cross(c - a);
+    area[t] = 0.5 * cross.norm();
+    normal[t] = area[t] > 0 ? Vec3(cross / (2 * area[t])) : Vec3::Zero();
+    centroid[t] = (a + b + c) / 3.0;
+    total_area += area[t];
+  }
+  const double distance = options.planar_distance_fraction * (hi - lo).norm();
+  const double cos_angle = std::cos(options.planar_angle_degrees * M_PI / 180.0);
+  std::vector<char> tried(n, 0);
+  std::vector<int> members;
+  std::vector<char> in_members(n, 0);
+  int regions = 0;
+  std::vector<double> region_area;
+  for (size_t seed = 0; seed < n; ++seed) {
+    if (region[seed] >= 0 || tried[seed] || area[seed] <= 0) continue;
+    members.assign(1, int(seed));
+    in_members[seed] = 1;
+    Vec3 plane_normal = normal[seed], plane_point = centroid[seed];
+    Vec3 normal_sum = area[seed] * normal[seed], centroid_sum = area[seed] * centroid[seed];
+    double area_sum = area[seed];
+    for (size_t next = 0; next < members.size(); ++next)
+      for (int u : neighbours[size_t(members[next])]) {
+        if (in_members[size_t(u)] || region[size_t(u)] >= 0 || area[size_t(u)] <= 0) continue;
+        if (normal[size_t(u)].dot(plane_normal) < cos_angle) continue;
+        bool near = true;
+        for (int v : input.triangles[size_t(u)])
+          near = near && std::abs((input.points[size_t(v)] - plane_point).dot(plane_normal)) <= distance;
+        if (!near) continue;
+        in_members[size_t(u)] = 1;
+        members.push_back(u);
+        normal_sum += area[size_t(u)] * normal[size_t(u)];
+        centroid_sum += area[size_t(u)] * centroid[size_t(u)];
+        area_sum += area[size_t(u)];
+        if (members.size() % 32 == 0 && normal_sum.norm() > 0) {
+          plane_normal = normal_sum.normalized();
+          plane_point = centroid_sum / area_sum;
+        }
+      }
+    for (int t : members) in_members[size_t(t)] = 0;
+    bool keep = area_sum >= options.planar_min_area_fraction * total_area && normal_sum.norm() > 0;
+    if (keep) {
+      // In-plane spread: the area-weighted covariance of the centroids, projected on the plane.
+      const Vec3 nrm = normal_sum.normalized(), mean = centroid_sum / area_sum;
+      Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+      for (int t : members) {
+        Vec3 d = centroid[size_t(t)] - mean;
+        d -= d.dot(nrm) * nrm;
+        covariance += area[size_t(t)] * d * d.transpose();
+      }
+      const Eigen::Vector3d spread = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance / area_sum).eigenvalues();
+      // Ascending; the smallest is the (near-zero) spread along the normal.
+      keep = spread[1] >= kPlanarMinSpreadRatio * kPlanarMinSpreadRatio * spread[2];
+    }
+    for (int t : members) {
+      if (keep)
+        region[size_t(t)] = regions;
+      else
+        tried[size_t(t)] = 1;
+    }
+    if (keep) {
+      region_area.push_back(area_sum);
+      ++regions;
+    }
+  }
+  // Holes: groups of other triangles that border one region only and are small beside it.
+  std::vector<int> group(n, -1);
+  for (size_t start = 0; start < n && regions > 0; ++start) {
+    if (region[start] >= 0 || group[start] >= 0) continue;
+    members.assign(1, int(start));
+    group[start] = int(start);
+    double group_area = 0;
+    int border = -1;
+    bool one_border = true;
+    for (size_t next = 0; next < members.size(); ++next) {
+      const int t = members[next];
+      group_area += area[size_t(t)];
+      for (int u : neighbours[size_t(t)]) {
+        if (region[size_t(u)] >= 0) {
+          if (border >= 0 && border != region[size_t(u)]) one_border = false;
+          border = region[size_t(u)];
+        } else if (group[size_t(u)] < 0) {
+          group[size_t(u)] = int(start);
+          members.push_back(u);
+        }
+      }
+    }
+    if (border >= 0 && one_border && group_area < kPlanarHoleFraction * region_area[size_t(border)])
+      for (int t : members) region[size_t(t)] = border;
+  }
+  return region;
+}
+
+// Patch labels of boundary quads from the input surface: its planar regions, and the rest of its
+// triangles joined across every edge that is not a feature edge; each quad is labelled by the
+// triangle closest to its centre.
 std::vector<int> patches_by_input_creases(const HexMesh& mesh, const std::vector<std::array<int, 4>>& quads,
-                                          const TriSurface& input, double crease_angle_degrees) {
+                                          const TriSurface& input, const MeshSetsOptions& options) {
+  const double crease_angle_degrees = options.crease_angle_degrees;
   std::vector<std::array<int, 2>> creases = feature_edges(input, crease_angle_degrees);
   for (auto& e : creases) e = {std::min(e[0], e[1]), std::max(e[0], e[1])};
   std::sort(creases.begin(), creases.end());
@@ -142,12 +293,18 @@ std::vector<int> patches_by_input_creases(const HexMesh& mesh, const std::vector
       edge_uses.push_back({{std::min(a, b), std::max(a, b)}, int(t)});
     }
   std::sort(edge_uses.begin(), edge_uses.end());
+  const std::vector<int> planar = planar_regions(input, triangle_neighbours(input), options);
   DisjointSets regions(input.triangles.size());
   for (size_t i = 0; i < edge_uses.size();) {
     size_t j = i;
     while (j < edge_uses.size() && edge_uses[j].first == edge_uses[i].first) ++j;
-    if (j - i == 2 && !std::binary_search(creases.begin(), creases.end(), edge_uses[i].first))
-      regions.join(edge_uses[i].second, edge_uses[i + 1].second);
+    if (j - i == 2) {
+      const int a = edge_uses[i].second, b = edge_uses[i + 1].second;
+      // Triangles of one planar region are joined; a region's rim separates it from the rest.
+      if (planar[size_t(a)] == planar[size_t(b)] &&
+          (planar[size_t(a)] >= 0 || !std::binary_search(creases.begin(), creases.end(), edge_uses[i].first)))
+        regions.join(a, b);
+    }
     i = j;
   }
   const TriangleBvh tree(input);
@@ -225,7 +382,7 @@ MeshSets find_mesh_sets(const HexMesh& mesh, const TriSurface& input, const Mesh
   std::vector<int> owners;
   const std::vector<std::array<int, 4>> quads = boundary_quads(mesh, &owners);
   return sets_with_patches(mesh, quads, owners,
-                           patches_by_input_creases(mesh, quads, input, options.crease_angle_degrees));
+                           patches_by_input_creases(mesh, quads, input, options));
 }
 
 namespace {

@@ -55,6 +55,17 @@ struct MeshSetsOptions {
   //! than this angle, in degrees (the feature angle of the coarsening by default). Smaller
   //! splits curved regions into many patches; larger merges a cut with the surface around it.
   double crease_angle_degrees = 60;
+  //! Planar regions of the input surface become patches of their own, whether or not a crease
+  //! bounds them (a cut whose rim is rounded): a triangle joins a region when its normal is
+  //! within this angle of the region's plane, in degrees. Larger finds noisier planes but also
+  //! flat-looking strips of curved surfaces.
+  double planar_angle_degrees = 5;
+  //! ... and its corners lie within this distance of the plane, as a fraction of the input's
+  //! bounding-box diagonal.
+  double planar_distance_fraction = 0.002;
+  //! A planar region is a patch only when its area is at least this fraction of the input's
+  //! area; 0 turns planar regions off.
+  double planar_min_area_fraction = 0.01;
 };
 
 //! Finds the parts (hexes connected through shared nodes), each part's boundary (faces used by
@@ -66,11 +77,13 @@ struct MeshSetsOptions {
 //! O(n log n) in the number of hexes.
 MeshSets find_mesh_sets(const HexMesh& mesh, const MeshSetsOptions& options = {});
 
-//! The same, with the patches taken from the surface the mesh was made from: its triangles
-//! joined across every edge that is not a feature edge (dihedral above the crease angle), and
-//! each boundary face given the region of the input triangle closest to its centre. The planar
-//! cut of a scanned bone is then one patch even where the hexes round its rim. Preconditions:
-//! `input` closed and manifold (as om_dthex verified it). O(n log n).
+//! The same, with the patches taken from the surface the mesh was made from: its large planar
+//! regions (grown from seeds, see the options), and its other triangles joined across every edge
+//! that is not a feature edge (dihedral above the crease angle); each boundary face is given the
+//! region of the input triangle closest to its centre. The planar cut of a scanned bone is then
+//! one patch even where the scan rounds its rim and no input edge is a crease. Preconditions:
+//! `input` closed and manifold (as om_dthex verified it). O(n log n) in the triangles and faces,
+//! times the few regions that may try each triangle.
 MeshSets find_mesh_sets(const HexMesh& mesh, const TriSurface& input, const MeshSetsOptions& options = {});
 
 //! A set the user names on the command line (--set NAME=box:... or NAME=plane:...): the boundary

@@ -1,12 +1,16 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/hexes/mesh_sets.h>
+#include <dthex/io/write_surface.h>
+#include <dthex/pipeline/pipeline.h>
 #include "boundary_fixtures.h"
+#include "scratch_dir.h"
 
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <set>
 
@@ -33,6 +37,58 @@ const FaceSet& surface(const MeshSets& s, const std::string& name) {
   for (const FaceSet& f : s.surfaces)
     if (f.name == name) return f;
   throw std::runtime_error("no surface " + name);
+}
+
+// A closed surface of revolution about the z axis: the profile (r, z) from the bottom pole to
+// the top pole, turned in `segments` steps.
+TriSurface revolve(const std::vector<std::pair<double, double>>& profile, int segments) {
+  TriSurface s;
+  s.points.push_back(Vec3(0, 0, profile.front().second));
+  for (size_t i = 1; i + 1 < profile.size(); ++i)
+    for (int k = 0; k < segments; ++k) {
+      const double a = 2 * M_PI * k / segments;
+      s.points.push_back(Vec3(profile[i].first * std::cos(a), profile[i].first * std::sin(a), profile[i].second));
+    }
+  s.points.push_back(Vec3(0, 0, profile.back().second));
+  const int rings = int(profile.size()) - 2, top = int(s.points.size()) - 1;
+  auto at = [&](int ring, int k) { return 1 + ring * segments + (k % segments); };
+  for (int k = 0; k < segments; ++k) {
+    s.triangles.push_back({0, at(0, k + 1), at(0, k)});
+    for (int r = 0; r + 1 < rings; ++r) {
+      s.triangles.push_back({at(r, k), at(r, k + 1), at(r + 1, k + 1)});
+      s.triangles.push_back({at(r, k), at(r + 1, k + 1), at(r + 1, k)});
+    }
+    s.triangles.push_back({top, at(rings - 1, k), at(rings - 1, k + 1)});
+  }
+  return s;
+}
+
+// The largest distance of the patch's face corners from the plane through `point` with unit
+// normal `normal`.
+double largest_distance_from_plane(const HexMesh& m, const FaceSet& patch, const Vec3& point, const Vec3& normal) {
+  double largest = 0;
+  for (const HexFace& f : patch.faces)
+    for (int c : kHexSideCornersOutward[size_t(f.side)])
+      largest = std::max(largest, std::abs((m.nodes[size_t(m.hexes[size_t(f.hex)][size_t(c)])] - point).dot(normal)));
+  return largest;
+}
+
+// The patch whose faces' mean outward normal is closest to `normal`.
+const FaceSet& patch_facing(const HexMesh& m, const MeshSets& s, const Vec3& normal) {
+  const FaceSet* best = nullptr;
+  double best_dot = -2;
+  for (const FaceSet& f : s.surfaces) {
+    if (f.name.rfind("patch", 0) != 0) continue;
+    Vec3 sum = Vec3::Zero();
+    for (const HexFace& face : f.faces) sum += face_area_vector(m, face);
+    const double d = sum.normalized().dot(normal);
+    if (d > best_dot) {
+      best_dot = d;
+      best = &f;
+    }
+  }
+  if (!best) throw std::runtime_error("no patch");
+  return *best;
 }
 
 }  // namespace
@@ -156,4 +212,70 @@ TEST(MeshSets, UserSetsRefuseBadTextGeneratedNamesAndEmptySelections) {
     add_user_sets(s, m, {parse_user_set("top=plane:0,0,1,0,0,1,0"), parse_user_set("top=plane:0,0,1,0,0,1,0")});
   });
   EXPECT_NE(twice.find("given twice"), std::string::npos) << twice;
+}
+
+TEST(MeshSets, ACylindersFlatEndsArePatchesThoughItsRimIsRounded) {
+  // Radius 1, height 1, the rims rounded with radius 0.2 in 8 steps of 11.25 degrees: no edge is
+  // a crease, so only the planar regions separate the flat ends (radius 0.8) from the rest.
+  std::vector<std::pair<double, double>> profile = {{0, 0}, {0.4, 0}, {0.8, 0}};
+  for (int i = 1; i <= 8; ++i) {
+    const double a = M_PI / 2 * i / 8;
+    profile.push_back({0.8 + 0.2 * std::sin(a), 0.2 - 0.2 * std::cos(a)});
+  }
+  for (int i = 1; i <= 8; ++i) {
+    const double a = M_PI / 2 * i / 8;
+    profile.push_back({1.0 - 0.2 * (1 - std::cos(a)), 0.8 + 0.2 * std::sin(a)});
+  }
+  profile.push_back({0.4, 1});
+  profile.push_back({0, 1});
+  const TriSurface cylinder = revolve(profile, 64);
+  const std::string path = (dthex_test::fresh_dir("mesh_sets_cylinder") / "cylinder.off").string();
+  write_surface(cylinder, path);
+  Progress quiet;
+  const PipelineResult r = run_pipeline(path, PipelineOptions(), quiet);
+  const MeshSets s = find_mesh_sets(r.hexes, r.input);
+  const double flat_area = M_PI * 0.8 * 0.8;
+  for (const double z : {0.0, 1.0}) {
+    SCOPED_TRACE(z);
+    const Vec3 outward(0, 0, z == 0 ? -1 : 1);
+    const FaceSet& end = patch_facing(r.hexes, s, outward);
+    EXPECT_LT(largest_distance_from_plane(r.hexes, end, Vec3(0, 0, z), outward), 0.01);
+    EXPECT_NEAR(end.area, flat_area, 0.15 * flat_area);
+  }
+  // Without planar regions the rounded rims separate nothing: the whole boundary is one patch.
+  MeshSetsOptions creases_only;
+  creases_only.planar_min_area_fraction = 0;
+  const MeshSets one = find_mesh_sets(r.hexes, r.input, creases_only);
+  ASSERT_EQ(one.surfaces.size(), 2u);
+  EXPECT_EQ(one.surfaces[1].name, "patch1");
+}
+
+TEST(MeshSets, TheFemursDistalCutIsOnePatch) {
+  // The bundled femur is cut by the plane z = const at its lowest point, and the scan rounds the
+  // cut's rim: no input edge there bends by more than 30 degrees.
+  Progress quiet;
+  const PipelineResult r = run_pipeline(DTHEX_SOURCE_DIR "/meshes/femur_proximal_ct.off", PipelineOptions(), quiet);
+  double lowest = INFINITY;
+  for (const Vec3& p : r.input.points) lowest = std::min(lowest, p.z());
+  // The cut's area from the input alone: the triangles facing down within 10 degrees whose
+  // corners are within 0.5 mm of the lowest point's height.
+  double cut_area = 0;
+  for (const auto& t : r.input.triangles) {
+    const Vec3 &a = r.input.points[size_t(t[0])], &b = r.input.points[size_t(t[1])], &c = r.input.points[size_t(t[2])];
+    const Vec3 n = (b - a).cross(c - a);
+    const bool low = std::max({a.z(), b.z(), c.z()}) <= lowest + 0.5;
+    if (low && -n.z() >= std::cos(10 * M_PI / 180) * n.norm()) cut_area += 0.5 * n.norm();
+  }
+  ASSERT_GT(cut_area, 300.0);  // mm^2: the cut is there
+  const MeshSets s = find_mesh_sets(r.hexes, r.input);
+  const FaceSet& cut = patch_facing(r.hexes, s, Vec3(0, 0, -1));
+  EXPECT_LT(largest_distance_from_plane(r.hexes, cut, Vec3(0, 0, lowest), Vec3(0, 0, -1)), 1.0);
+  EXPECT_NEAR(cut.area, cut_area, 0.15 * cut_area);
+  // Without planar regions the cut is no patch of its own.
+  MeshSetsOptions creases_only;
+  creases_only.planar_min_area_fraction = 0;
+  const MeshSets without = find_mesh_sets(r.hexes, r.input, creases_only);
+  for (const FaceSet& f : without.surfaces)
+    if (f.name.rfind("patch", 0) == 0)
+      EXPECT_GT(largest_distance_from_plane(r.hexes, f, Vec3(0, 0, lowest), Vec3(0, 0, -1)), 1.0) << f.name;
 }
