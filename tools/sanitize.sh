@@ -30,6 +30,9 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 # runs in the other RemeshIsotropic tests), and the femur and the heart coarsened twice, in
 # halves and whole, and two hearts coarsened side by side (10 s under ASan; the halves' cutting
 # and joining run in the other SplitInHalves tests), and the femur meshed to find its planar cut
-# (the planar regions run on the rounded cylinder in the other MeshSets tests).
-exclude=${2:-'TargetNodesLand|SharedMeshesVerify|RefereeOnSpot|KeepsAKnifeEdge|HostileInput.*CubeWithCavity|PipelineRemeshesANeedleRod|CoarseningInHalvesMatchesOneRun|TwoSeparateBodiesCoarsenedInHalvesStayTwo|TheFemursDistalCutIsOnePatch'}
+# (the planar regions run on the rounded cylinder in the other MeshSets tests), and the hostile
+# catalogue's two cubes a millimetre apart (47 s under ASan, nearly all in the boundary-fold
+# repair between them, beyond the catalogue's 30 s limit; the closest-pair check runs in its
+# CubesTooClose cases, the fold repair in the RepairBoundaryFolds tests).
+exclude=${2:-'TargetNodesLand|SharedMeshesVerify|RefereeOnSpot|KeepsAKnifeEdge|HostileInput.*CubeWithCavity|HostileInput.*CubesAMillimetreApart|PipelineRemeshesANeedleRod|CoarseningInHalvesMatchesOneRun|TwoSeparateBodiesCoarsenedInHalvesStayTwo|TheFemursDistalCutIsOnePatch'}
 ctest --test-dir build-check --output-on-failure -j"$jobs" -R "$filter" -E "$exclude"
