@@ -2,6 +2,7 @@
 #include <dthex/hexes/mesh_sets.h>
 
 #include <dthex/hexes/conformity.h>
+#include <dthex/mesh/half_edges.h>
 #include <dthex/mesh/triangle_bvh.h>
 #include <dthex/surface/features.h>
 
@@ -137,21 +138,14 @@ std::vector<int> patches_by_hex_creases(const HexMesh& mesh, const std::vector<s
 
 // The triangles beside each triangle across its edges of exactly two triangles.
 std::vector<std::vector<int>> triangle_neighbours(const TriSurface& input) {
-  std::vector<std::pair<std::array<int, 2>, int>> edge_uses;
-  edge_uses.reserve(3 * input.triangles.size());
-  for (size_t t = 0; t < input.triangles.size(); ++t)
-    for (int i = 0; i < 3; ++i) {
-      const int a = input.triangles[t][size_t(i)], b = input.triangles[t][size_t((i + 1) % 3)];
-      edge_uses.push_back({{std::min(a, b), std::max(a, b)}, int(t)});
-    }
-  std::sort(edge_uses.begin(), edge_uses.end());
+  const std::vector<HalfEdge> edge_uses = sorted_half_edges(input.triangles);
   std::vector<std::vector<int>> neighbours(input.triangles.size());
   for (size_t i = 0; i < edge_uses.size();) {
     size_t j = i;
-    while (j < edge_uses.size() && edge_uses[j].first == edge_uses[i].first) ++j;
+    while (j < edge_uses.size() && edge_uses[j].key == edge_uses[i].key) ++j;
     if (j - i == 2) {
-      neighbours[size_t(edge_uses[i].second)].push_back(edge_uses[i + 1].second);
-      neighbours[size_t(edge_uses[i + 1].second)].push_back(edge_uses[i].second);
+      neighbours[size_t(edge_uses[i].triangle)].push_back(edge_uses[i + 1].triangle);
+      neighbours[size_t(edge_uses[i + 1].triangle)].push_back(edge_uses[i].triangle);
     }
     i = j;
   }
@@ -285,24 +279,18 @@ std::vector<int> patches_by_input_creases(const HexMesh& mesh, const std::vector
   std::vector<std::array<int, 2>> creases = feature_edges(input, crease_angle_degrees);
   for (auto& e : creases) e = {std::min(e[0], e[1]), std::max(e[0], e[1])};
   std::sort(creases.begin(), creases.end());
-  std::vector<std::pair<std::array<int, 2>, int>> edge_uses;
-  edge_uses.reserve(3 * input.triangles.size());
-  for (size_t t = 0; t < input.triangles.size(); ++t)
-    for (int i = 0; i < 3; ++i) {
-      const int a = input.triangles[t][size_t(i)], b = input.triangles[t][size_t((i + 1) % 3)];
-      edge_uses.push_back({{std::min(a, b), std::max(a, b)}, int(t)});
-    }
-  std::sort(edge_uses.begin(), edge_uses.end());
+  const std::vector<HalfEdge> edge_uses = sorted_half_edges(input.triangles);
   const std::vector<int> planar = planar_regions(input, triangle_neighbours(input), options);
   DisjointSets regions(input.triangles.size());
   for (size_t i = 0; i < edge_uses.size();) {
     size_t j = i;
-    while (j < edge_uses.size() && edge_uses[j].first == edge_uses[i].first) ++j;
+    while (j < edge_uses.size() && edge_uses[j].key == edge_uses[i].key) ++j;
     if (j - i == 2) {
-      const int a = edge_uses[i].second, b = edge_uses[i + 1].second;
+      const int a = edge_uses[i].triangle, b = edge_uses[i + 1].triangle;
+      const std::array<int, 2> edge = {int(edge_uses[i].key >> 32), int(edge_uses[i].key & 0xffffffffu)};
       // Triangles of one planar region are joined; a region's rim separates it from the rest.
       if (planar[size_t(a)] == planar[size_t(b)] &&
-          (planar[size_t(a)] >= 0 || !std::binary_search(creases.begin(), creases.end(), edge_uses[i].first)))
+          (planar[size_t(a)] >= 0 || !std::binary_search(creases.begin(), creases.end(), edge)))
         regions.join(a, b);
     }
     i = j;
