@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "repair_fixtures.h"
+
 #include <string>
 #include <tuple>
 #include <vector>
@@ -13,21 +15,12 @@
 using dthex::FlipZeroAreaSliversReport;
 using dthex::InputError;
 using dthex::TriSurface;
+using dthex::testing::unit_cube;
 using dthex::Vec3;
 using dthex::flip_zero_area_slivers;
 
 namespace {
 
-TriSurface cube() {
-  TriSurface s;
-  for (int i = 0; i < 8; ++i) s.points.push_back(Vec3(i & 1, (i >> 1) & 1, (i >> 2) & 1));
-  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-  for (const auto& q : quads) {
-    s.triangles.push_back({q[0], q[1], q[2]});
-    s.triangles.push_back({q[0], q[2], q[3]});
-  }
-  return s;
-}
 
 double area(const TriSurface& s) {
   double sum = 0;
@@ -51,7 +44,7 @@ int add_sliver(TriSurface& s, double fraction) {
 }  // namespace
 
 TEST(FlipZeroAreaSlivers, ASliverBesideAT_JunctionIsFlippedAndTheShapeIsUnchanged) {
-  TriSurface s = cube();
+  TriSurface s = unit_cube();
   const int sliver = add_sliver(s, 0.25);
   ASSERT_TRUE(dthex::is_closed_manifold(s.triangles, s.points.size()));
   {
@@ -75,11 +68,11 @@ TEST(FlipZeroAreaSlivers, ASliverBesideAT_JunctionIsFlippedAndTheShapeIsUnchange
 }
 
 TEST(FlipZeroAreaSlivers, NothingWithoutASliverOrOnAnOpenSurface) {
-  TriSurface s = cube();
+  TriSurface s = unit_cube();
   const TriSurface before = s;
   EXPECT_EQ(flip_zero_area_slivers(s).slivers_flipped, 0u);
   EXPECT_EQ(s.triangles, before.triangles);
-  TriSurface open = cube();
+  TriSurface open = unit_cube();
   add_sliver(open, 0.5);
   open.triangles.erase(open.triangles.begin() + 3);
   const TriSurface open_before = open;

@@ -4,28 +4,16 @@
 
 #include <gtest/gtest.h>
 
+#include "repair_fixtures.h"
+
 using dthex::RemoveRedundantTrianglesReport;
 using dthex::TriSurface;
+using dthex::testing::unit_cube;
 using dthex::Vec3;
 using dthex::remove_redundant_triangles;
 
-namespace {
-
-TriSurface cube() {
-  TriSurface s;
-  for (int i = 0; i < 8; ++i) s.points.push_back(Vec3(i & 1, (i >> 1) & 1, (i >> 2) & 1));
-  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-  for (const auto& q : quads) {
-    s.triangles.push_back({q[0], q[1], q[2]});
-    s.triangles.push_back({q[0], q[2], q[3]});
-  }
-  return s;
-}
-
-}  // namespace
-
 TEST(RemoveRedundantTriangles, DuplicatesAndCollapsedOnesGoWhereTheCubeStaysClosed) {
-  const TriSurface original = cube();
+  const TriSurface original = unit_cube();
   TriSurface s = original;
   s.triangles.insert(s.triangles.begin() + 3, std::array<int, 3>{0, 0, 5});  // collapsed, at id 3
   s.triangles.push_back({s.triangles[5][2], s.triangles[5][1], s.triangles[5][0]});  // triangle 5 reversed
@@ -57,7 +45,7 @@ TEST(RemoveRedundantTriangles, ZeroAreaTrianglesOnDistinctVerticesAreNotRemoved)
   // Two back-to-back slivers on edge 0-1 of the cube: not collapsed (three distinct
   // vertices), and one is a duplicate of the other, but removing it would leave the other's
   // edges open, so both stay for verification to refuse as degenerate.
-  TriSurface s = cube();
+  TriSurface s = unit_cube();
   s.points.push_back(Vec3(0.5, 0, 0));
   s.triangles.push_back({0, 1, 8});
   s.triangles.push_back({1, 0, 8});
@@ -69,7 +57,7 @@ TEST(RemoveRedundantTriangles, ZeroAreaTrianglesOnDistinctVerticesAreNotRemoved)
 }
 
 TEST(RemoveRedundantTriangles, ClosedManifoldCheck) {
-  const TriSurface c = cube();
+  const TriSurface c = unit_cube();
   EXPECT_TRUE(dthex::is_closed_manifold(c.triangles, c.points.size()));
   auto open = c.triangles;
   open.pop_back();
