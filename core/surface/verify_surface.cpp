@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/surface/verify_surface.h>
 
+#include <dthex/mesh/closest_triangle_pair.h>
 #include <dthex/mesh/half_edges.h>
 #include <dthex/mesh/triangle_bvh.h>
-#include <dthex/surface/closest_triangle_pair.h>
 
 #include <algorithm>
 #include <cmath>

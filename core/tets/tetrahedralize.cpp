@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/tets/tetrahedralize.h>
 
+#include <dthex/mesh/closest_triangle_pair.h>
 #include <dthex/mesh/triangle_bvh.h>
 #include <dthex/pipeline/memory_budget.h>
-#include <dthex/surface/closest_triangle_pair.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include <dthex/surface/closest_triangle_pair.h>
+#include <dthex/mesh/closest_triangle_pair.h>
 
 #include <algorithm>
 #include <exception>
