@@ -103,8 +103,8 @@ rows=() status=0
 for input in "${inputs[@]}"; do
   mesh=${input%:*} unit=${input##*:} name=$(basename "${input%:*}" .off)
   case "$unit" in
-    mm) modulus=17000. pressure=1. ;;  # MPa
-    m) modulus=17e9 pressure=1e6 ;;    # Pa
+    mm) modulus=17000. pressure=1. shown="1 MPa" ;;  # forces in N either way
+    m) modulus=17e9 pressure=1e6 shown="1e6 Pa" ;;
     *) echo "solve_in_calculix.sh: unit '$unit' of $mesh is not mm or m" >&2; exit 2 ;;
   esac
   echo "solve_in_calculix.sh: $mesh ($unit)" >&2
@@ -145,8 +145,8 @@ for input in "${inputs[@]}"; do
     a = p * sqrt(ax * ax + ay * ay + az * az)
     printf "%.6g %.6g %.1e\n", a, p * sqrt(rx * rx + ry * ry + rz * rz), d / a }')
   [ "$complaints" = 0 ] || status=1
-  rows+=("| $name ($unit) | $nodes | $hexes | $widest | $fixed ($flatness) | $pressure | $force | $share | $(awk -v x="$fx" -v y="$fy" \
-    -v z="$fz" 'BEGIN { printf "%.6g", sqrt(x*x + y*y + z*z) }') | $error | $seconds | $megabytes | $complaints |")
+  rows+=("| $name ($unit) | $nodes | $hexes | $widest | $fixed ($flatness) | $shown | $force | $share | $(awk -v x="$fx" -v y="$fy" \
+    -v z="$fz" 'BEGIN { printf "%.6g", sqrt(x*x + y*y + z*z) }') | $error | $threads | $seconds | $megabytes | $complaints |")
 done
 
 commit=$(git rev-parse --short HEAD)
@@ -155,20 +155,22 @@ commit=$(git rev-parse --short HEAD)
   echo "<!-- calculix-table:begin -->"
   echo "## Solved in CalculiX"
   echo
-  echo "Written by \`bash tools/solve_in_calculix.sh\` $(date -u '+%Y-%m-%d %H:%M UTC'), commit \`$commit\`, on"
-  echo "$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -n 1) ($(nproc) cores), load average"
-  echo "$(cut -d' ' -f1-3 /proc/loadavg) at the end; $(ccx -v 2>&1 | grep -m1 Version | sed 's/^ *This is //') of CalculiX with OMP_NUM_THREADS=$threads."
+  echo "Written by \`bash tools/solve_in_calculix.sh\` $(date -u '+%Y-%m-%d %H:%M UTC'), commit \`$commit\`,"
+  echo "on $(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -n 1) ($(nproc) cores), load average $(cut -d' ' -f1-3 /proc/loadavg) at the end, with"
+  echo "$(ccx -v 2>&1 | grep -m1 Version | sed 's/.*Version /CalculiX /') (OMP_NUM_THREADS as in the table: 1 when the machine is busy)."
   echo "Each mesh is \`om_dthex MESH.off -o MESH.inp\` at the defaults, included in a deck with its own"
-  echo "\`*HEADING\`: the flattest patch fixed (flatness: its nodes' spread off its plane over the square"
-  echo "root of its area), a pressure on every other patch, E = 17 GPa and nu = 0.3 in the mesh's units,"
-  echo "one static step. The rest of the closed boundary pushes with pressure x the fixed patch's area;"
+  echo "\`*HEADING\`: the flattest patch of 1% of the boundary area or more fixed (flatness: its nodes'"
+  echo "spread off its plane over the square root of its area; the femur's is its distal cut), a"
+  echo "pressure on every other patch, E = 17 GPa and nu = 0.3 in the mesh's units, one static step."
+  echo "Forces are in newtons. The rest of the closed boundary pushes with pressure x the fixed patch's area;"
   echo "ccx's reaction balances that less the pressure's share on the fixed patch's own nodes (its rim),"
   echo "which ccx leaves out of RF. The error is of the reaction vector against that, relative to"
-  echo "pressure x area. Field is the widest \`*NODE\` coordinate in characters (CalculiX reads 20)."
+  echo "pressure x area. Field is the widest \`*NODE\` coordinate in characters: CalculiX reads 20,"
+  echo "so every coordinate is read whole (the vertebra is in metres)."
   echo "Seconds and peak MB are ccx's alone (\`/usr/bin/time -v\`)."
   echo
-  echo "| mesh (unit) | nodes | hexes | field | fixed (flatness) | pressure | pressure x area | share on the rim | reaction | error | ccx seconds | ccx peak MB | ccx errors and warnings |"
-  echo "|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+  echo "| mesh (unit) | nodes | hexes | field | fixed (flatness) | pressure | pressure x area | share on the rim | reaction | error | ccx threads | ccx seconds | ccx peak MB | ccx errors and warnings |"
+  echo "|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
   printf '%s\n' "${rows[@]}"
   echo "<!-- calculix-table:end -->"
 } >"$work/section.md"
