@@ -150,7 +150,8 @@ for input in "${inputs[@]}"; do
 done
 
 commit=$(git rev-parse --short HEAD)
-[ -z "$(git status --porcelain --untracked-files=no)" ] || commit="$commit, with uncommitted changes"
+# (The output file itself does not count: it holds the previous run's table.)
+[ -z "$(git status --porcelain --untracked-files=no -- . ":(exclude)$output")" ] || commit="$commit, with uncommitted changes"
 {
   echo "<!-- calculix-table:begin -->"
   echo "## Solved in CalculiX"
