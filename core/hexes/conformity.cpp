@@ -298,6 +298,56 @@ std::vector<std::array<int, 4>> boundary_quads(const HexMesh& mesh, std::vector<
   return boundary_quads_of(mesh, sorted_face_uses(mesh), owners);
 }
 
+std::vector<std::array<int, 4>> interface_quads(const HexMesh& mesh, std::vector<int>* owners,
+                                                std::vector<int>* others) {
+  std::vector<std::array<int, 4>> quads;
+  if (owners) owners->clear();
+  if (others) others->clear();
+  if (mesh.region.size() != mesh.hexes.size()) return quads;
+  const std::vector<FaceUse> uses = sorted_face_uses(mesh);
+  std::vector<int> items;
+  std::vector<std::pair<int, int>> other_of;  // (item, the hex on the other side)
+  for_each_face(uses, [&](size_t first, size_t count) {
+    if (count != 2) return;
+    const int a = uses[first].item, b = uses[first + 1].item;
+    const int ra = mesh.region[size_t(a / 6)], rb = mesh.region[size_t(b / 6)];
+    if (ra != rb) items.push_back(ra < rb ? a : b);
+    if (ra != rb) other_of.push_back({ra < rb ? a : b, (ra < rb ? b : a) / 6});
+  });
+  std::sort(items.begin(), items.end());
+  std::sort(other_of.begin(), other_of.end());
+  quads.reserve(items.size());
+  for (int item : items) quads.push_back(face_ring(mesh, item));
+  if (owners)
+    for (int item : items) owners->push_back(item / 6);
+  if (others)
+    for (const auto& [item, hex] : other_of) others->push_back(hex);
+  return quads;
+}
+
+HexMesh region_submesh(const HexMesh& mesh, int region, std::vector<int>* node_of) {
+  HexMesh out;
+  std::vector<int> local(mesh.nodes.size(), -1);
+  for (size_t h = 0; h < mesh.hexes.size(); ++h)
+    if (mesh.region.empty() || mesh.region[h] == region)
+      for (int v : mesh.hexes[h]) local[size_t(v)] = 0;
+  if (node_of) node_of->clear();
+  for (size_t v = 0; v < mesh.nodes.size(); ++v)
+    if (local[v] == 0) {
+      local[v] = int(out.nodes.size());
+      out.nodes.push_back(mesh.nodes[v]);
+      if (!mesh.boundary_facet.empty()) out.boundary_facet.push_back(mesh.boundary_facet[v]);
+      if (node_of) node_of->push_back(int(v));
+    }
+  for (size_t h = 0; h < mesh.hexes.size(); ++h)
+    if (mesh.region.empty() || mesh.region[h] == region) {
+      std::array<int, 8> hex = mesh.hexes[h];
+      for (int& v : hex) v = local[size_t(v)];
+      out.hexes.push_back(hex);
+    }
+  return out;
+}
+
 std::vector<char> boundary_nodes(const HexMesh& mesh, const std::vector<char>* known) {
   if (known && known->size() == mesh.nodes.size()) return *known;
   return boundary_nodes_of_quads(mesh, boundary_quads(mesh));

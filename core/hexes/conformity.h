@@ -53,6 +53,20 @@ ConformityReport check_conformity(const HexMesh& mesh, std::vector<std::array<in
 //! `owners` when given.
 std::vector<std::array<int, 4>> boundary_quads(const HexMesh& mesh, std::vector<int>* owners = nullptr);
 
+//! The faces between two hexes of different regions (HexMesh::region: a closed surface inside
+//! another meshed as a second material), each once, as node rings oriented outward of the hex
+//! of the lower-numbered region (into the higher one, the way the input's inner surface faces),
+//! in hex order; that hex goes to `owners` when given, and the hex on the other side to
+//! `others`. Empty when region is.
+std::vector<std::array<int, 4>> interface_quads(const HexMesh& mesh, std::vector<int>* owners = nullptr,
+                                                std::vector<int>* others = nullptr);
+
+//! The hexes of one region (all of them when mesh.region is empty) as a mesh of their own, with
+//! the nodes they use in the mesh's order and their boundary_facet; region is left empty. The
+//! mesh node of each of its nodes goes to `node_of` when given. Lets the checks that judge a
+//! closed body (check_conformity) judge each region of a mesh alone.
+HexMesh region_submesh(const HexMesh& mesh, int region, std::vector<int>* node_of = nullptr);
+
 //! Per node: 1 if it lies on a boundary quad or carries a boundary facet, the nodes that the
 //! untangler and the smoothers keep on the surface. They depend on the topology only, so a
 //! pipeline computes them once and hands them to each (finding them on a big mesh is costly).

@@ -128,6 +128,20 @@ HexMesh dice(const HexMesh& mesh, int n) {
   // written in sequence, and nodes of neighbouring hexes get nearby indices.
   std::vector<int> edge_number(n_edges, -1), face_number(n_faces, -1), face_uses(n_faces, 0);
   for (int face : hex_face) ++face_uses[size_t(face)];
+  // A face between two regions (HexMesh::region) is an interface: its nodes carry a boundary
+  // facet as a boundary face's do, so its use count is taken as 1 (face_uses is read only there).
+  if (!mesh.region.empty()) {
+    if (mesh.region.size() != n_hexes)
+      throw InputError("dice: region has " + std::to_string(mesh.region.size()) + " entries for " +
+                       std::to_string(n_hexes) + " hexes");
+    std::vector<int> first_region(n_faces, -1);
+    for (size_t item = 0; item < hex_face.size(); ++item) {
+      int& first = first_region[size_t(hex_face[item])];
+      const int r = mesh.region[item / 6];
+      if (first < 0) first = r;
+      else if (first != r) face_uses[size_t(hex_face[item])] = 1;
+    }
+  }
   int next_edge = 0, next_face = 0;
 
   const size_t m = size_t(n - 1);
@@ -213,6 +227,11 @@ HexMesh dice(const HexMesh& mesh, int n) {
                                    at(i + 1, j + 1, k + 1), at(i, j + 1, k + 1)};
   }
 
+  if (!mesh.region.empty()) {
+    out.region.resize(out.hexes.size());
+    const size_t per_hex = size_t(n) * size_t(n) * size_t(n);
+    for (size_t h = 0; h < out.hexes.size(); ++h) out.region[h] = mesh.region[h / per_hex];
+  }
   if (track_boundary) {
     out.boundary_facet.assign(out.nodes.size(), -1);
     std::copy(mesh.boundary_facet.begin(), mesh.boundary_facet.end(), out.boundary_facet.begin());

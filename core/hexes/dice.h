@@ -24,6 +24,9 @@ namespace dthex {
 //! the facet of its highest-numbered boundary corner. That corner is the most recently
 //! created one, which for meshes from thex() and dice() lies inside the face's coarse
 //! triangle, not on an edge shared with a neighbouring triangle. Other new nodes get -1.
+//! region (when the input has it): each sub-hex has its parent's, and a face between two
+//! regions counts as a boundary face for boundary_facet (its nodes lie on the interface).
+//! \throw InputError when region is neither empty nor one entry per hex.
 //! \throw std::invalid_argument when n < 1.
 //! \throw InputError on a hex with an out-of-range node.
 HexMesh dice(const HexMesh& mesh, int n);

@@ -135,6 +135,14 @@ HexMesh thex(const TetMesh& mesh) {
     }
   }
 
+  if (!mesh.tet_region.empty()) {
+    if (mesh.tet_region.size() != n_tets)
+      throw InputError("thex: tet_region has " + std::to_string(mesh.tet_region.size()) + " entries for " +
+                       std::to_string(n_tets) + " tets");
+    hex.region.resize(4 * n_tets);
+    for (size_t t = 0; t < n_tets; ++t)
+      for (size_t c = 0; c < 4; ++c) hex.region[4 * t + c] = mesh.tet_region[t];
+  }
   if (!mesh.boundary_faces.empty()) {
     hex.boundary_facet.assign(hex.nodes.size(), -1);
     for (size_t i = 0; i < mesh.boundary_faces.size(); ++i) {

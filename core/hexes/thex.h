@@ -17,7 +17,10 @@ namespace dthex {
 //! boundary_facet: nodes on boundary faces of the tet mesh get the
 //! TetMesh::boundary_face_source of a boundary face they lie on (the boundary face
 //! index when there are no sources), other nodes -1. It
-//! is left empty when the tet mesh carries no boundary faces.
+//! is left empty when the tet mesh carries no boundary faces. The faces between two regions
+//! (TetMesh::tet_region) are among the boundary faces, so interface nodes get one too.
+//!
+//! region: hexes 4t .. 4t+3 come from tet t and get its tet_region (empty when it is).
 //! Negatively oriented tets are split with a mirrored corner order, so every hex of a
 //! non-degenerate tet is positively oriented.
 //! \throw InputError on a tet with an out-of-range or repeated vertex, or

@@ -29,6 +29,10 @@ struct HexMesh {
   //! surface the volume was built from (the coarse surface) that the node lies on.
   //! Empty when the producer does not track it.
   std::vector<int> boundary_facet;
+  //! Per hex: its material region (0, 1, ...: a closed surface inside another, meshed as a
+  //! second material); the faces between two regions are an interface whose nodes, like the
+  //! boundary's, carry a boundary_facet. Empty: one region.
+  std::vector<int> region;
 
   bool is_boundary_node(int n) const {
     return !boundary_facet.empty() && boundary_facet[size_t(n)] >= 0;
@@ -43,6 +47,9 @@ struct TetMesh {
   //! index of the input surface triangle it came from.
   std::vector<std::array<int, 3>> boundary_faces;
   std::vector<int> boundary_face_source;
+  //! Per tet: its material region, as HexMesh::region (TetgenOptions::keep_nested_regions);
+  //! region 0 is the shallowest. Empty: one region.
+  std::vector<int> tet_region;
 };
 
 //! Bad input or usage: the command exits with code 2.

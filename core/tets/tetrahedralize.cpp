@@ -267,14 +267,42 @@ std::vector<TetFace> sorted_tet_faces(const TetMesh& mesh) {
   return faces;
 }
 
+//! mesh.tet_region from the union-find regions (`root` of a tet) and their depths (at the
+//! roots): region 0 the shallowest, ties broken by the region's first tet, so an interface
+//! always runs from a lower region number to a higher one. A region never reached (none is,
+//! for a closed surface) counts as depth 0.
+template <class Root>
+void label_regions_by_depth(TetMesh& mesh, const std::vector<int>& depth, Root&& root) {
+  std::vector<std::pair<int, int>> regions;  // (depth, first tet) per root, in tet order
+  std::vector<int> slot(mesh.tets.size(), -1);
+  mesh.tet_region.assign(mesh.tets.size(), 0);
+  for (size_t t = 0; t < mesh.tets.size(); ++t) {
+    const int r = root(int(t));
+    if (slot[size_t(r)] < 0) {
+      slot[size_t(r)] = int(regions.size());
+      regions.push_back({std::max(depth[size_t(r)], 0), int(t)});
+    }
+    mesh.tet_region[t] = slot[size_t(r)];
+  }
+  std::vector<int> order(regions.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = int(i);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return regions[size_t(a)] < regions[size_t(b)]; });
+  std::vector<int> label(regions.size());
+  for (size_t i = 0; i < order.size(); ++i) label[size_t(order[i])] = int(i);
+  for (int& r : mesh.tet_region) r = label[size_t(r)];
+  if (regions.size() <= 1) mesh.tet_region.clear();
+}
+
 //! TetGen fills every region the facets enclose, a cavity included (it removes only what
 //! lies outside the outermost surface, unless given a hole point, which a cavity of any
 //! shape makes hard to place). So the tets are grouped into regions joined across faces
 //! that lie on no facet; a region touching the mesh's outside is material, and crossing a
 //! facet between two regions alternates material and cavity, as the nesting of the
 //! surface's components does. This needs no orientation of the input, only its facets.
-//! Tets of cavity regions, and the points only they use, are dropped.
-void keep_material_tets(TetMesh& mesh) {
+//! Tets of cavity regions, and the points only they use, are dropped. With `keep_nested`
+//! (TetgenOptions::keep_nested_regions) nothing is dropped: every region is material, and
+//! mesh.tet_region numbers them by depth, then by their first tet.
+void keep_material_tets(TetMesh& mesh, bool keep_nested) {
   const std::vector<TetFace> faces = sorted_tet_faces(mesh);
   std::vector<std::array<int, 3>> facet_faces = mesh.boundary_faces;
   for (auto& f : facet_faces) std::sort(f.begin(), f.end());
@@ -319,6 +347,10 @@ void keep_material_tets(TetMesh& mesh) {
         depth[size_t(r)] = depth[size_t(queue[q])] + 1;
         queue.push_back(r);
       }
+  if (keep_nested) {
+    label_regions_by_depth(mesh, depth, find);
+    return;
+  }
   // A region never reached (it cannot happen for a closed surface) is kept as it was.
   auto is_cavity = [&](size_t t) { return depth[size_t(find(int(t)))] % 2 == 1; };
   size_t cavity_tets = 0;
@@ -466,7 +498,7 @@ TetMesh tetrahedralize(const TriSurface& surface, const TetgenOptions& options) 
   }
   TetMesh mesh = decode(data, surface.triangles.size());
   if (mesh.tets.empty()) throw MeshingError("TetGen returned no tetrahedra for the surface (switches \"" + switches + "\")");
-  keep_material_tets(mesh);
+  keep_material_tets(mesh, options.keep_nested_regions);
   orient(mesh);
   return mesh;
 }

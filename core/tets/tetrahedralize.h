@@ -15,6 +15,9 @@ struct TetgenOptions {
   std::string switches = "pq1.2Y";
   //! Wall-clock limit; TetGen is killed past it. Must be positive.
   double time_limit_seconds = 300;
+  //! A closed surface inside another encloses a second material (TetMesh::tet_region numbers
+  //! the regions) instead of a cavity, whose tets are dropped (the default).
+  bool keep_nested_regions = false;
 };
 
 //! Tetrahedralizes the inside of a closed triangle surface with TetGen 1.5.0.
@@ -25,7 +28,10 @@ struct TetgenOptions {
 //! are sent to /dev/null. The surface's triangles are the input facets and each carries
 //! its own index as facet marker, so boundary_face_source is the input triangle a
 //! boundary face lies on. Output tets are positively oriented and boundary faces oriented
-//! outward (both are checked and fixed, not assumed).
+//! outward (both are checked and fixed, not assumed). The region inside an odd number of the
+//! surface's components is a cavity and dropped, unless options.keep_nested_regions; then
+//! every region is kept and tet_region set, and the faces between two regions (each once,
+//! in boundary_faces) are oriented outward of one of their two tets.
 //! \throw InputError for invalid switches, a non-positive time limit, or a surface with
 //!        out-of-range or repeated triangle indices.
 //! \throw MeshingError when TetGen crashes, aborts, reports an error, exceeds the time

@@ -1,5 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/tets/tetrahedralize.h>
+
+#include <dthex/hexes/conformity.h>
+#include <dthex/hexes/dice.h>
+#include <dthex/hexes/thex.h>
+#include <dthex/tets/tet_regions.h>
 #include "refine_fixtures.h"
 
 #include <gtest/gtest.h>
@@ -182,4 +187,82 @@ TEST(Tetrahedralize, CavitiesStayEmptyAndIslandsInThemAreMeshed) {
   EXPECT_EQ(faces_per_box[0], 12u);
   EXPECT_EQ(faces_per_box[1], 12u);
   EXPECT_EQ(faces_per_box[2], 12u);
+}
+
+//! With keep_nested_regions the same three boxes are three materials (a shell, a shell inside
+//! it, a core), each closed on its own once taken apart (tet_regions.h), joined again at their
+//! shared interface points, and after THex and dicing the interface nodes carry a facet as the
+//! boundary's do. Volumes 125 - 64, 64 - 1, 1.
+TEST(Tetrahedralize, NestedRegionsAreKeptAndTakenApartAtTheirInterfaces) {
+  const TriSurface surface =
+      merge(merge(box(Vec3(0, 0, 0), Vec3(5, 5, 5)), box(Vec3(1, 1, 1), Vec3(4, 4, 4))), box(Vec3(2, 2, 2), Vec3(3, 3, 3)));
+  TetgenOptions options;
+  options.keep_nested_regions = true;
+  const TetMesh mesh = tetrahedralize(surface, options);
+  ASSERT_EQ(mesh.tet_region.size(), mesh.tets.size());
+  double volume[3] = {0, 0, 0};
+  for (size_t t = 0; t < mesh.tets.size(); ++t) {
+    ASSERT_GE(mesh.tet_region[t], 0);
+    ASSERT_LT(mesh.tet_region[t], 3);
+    volume[mesh.tet_region[t]] += volume6(mesh, mesh.tets[t]) / 6;
+  }
+  EXPECT_NEAR(volume[0], 125.0 - 27.0, 1e-9);  // region 0 is the outermost, the depth order
+  EXPECT_NEAR(volume[1], 27.0 - 1.0, 1e-9);
+  EXPECT_NEAR(volume[2], 1.0, 1e-9);
+  ASSERT_EQ(mesh.boundary_faces.size(), 36u) << "each interface face once";
+
+  const std::vector<TetMesh> regions = split_tet_regions(mesh);
+  ASSERT_EQ(regions.size(), 3u);
+  const size_t expected_faces[3] = {24, 24, 12};  // outer + inner box, both boxes, the core's
+  size_t points = 0;
+  for (size_t r = 0; r < 3; ++r) {
+    const TetMesh& region = regions[r];
+    EXPECT_TRUE(region.tet_region.empty());
+    EXPECT_EQ(region.boundary_faces.size(), expected_faces[r]) << r;
+    // Closed: each boundary face has one tet of the region, which lies behind it.
+    std::map<std::array<int, 3>, std::vector<std::pair<size_t, int>>> tets_of_face;
+    for (size_t t = 0; t < region.tets.size(); ++t)
+      for (int f = 0; f < 4; ++f) {
+        const auto& tet = region.tets[t];
+        std::array<int, 3> key = {tet[size_t((f + 1) % 4)], tet[size_t((f + 2) % 4)], tet[size_t((f + 3) % 4)]};
+        std::sort(key.begin(), key.end());
+        tets_of_face[key].push_back({t, tet[size_t(f)]});
+      }
+    for (const auto& f : region.boundary_faces) {
+      std::array<int, 3> key = f;
+      std::sort(key.begin(), key.end());
+      ASSERT_EQ(tets_of_face[key].size(), 1u);
+      const Vec3& a = region.points[size_t(f[0])];
+      const Vec3 normal = (region.points[size_t(f[1])] - a).cross(region.points[size_t(f[2])] - a);
+      EXPECT_LT(normal.dot(region.points[size_t(tets_of_face[key][0].second)] - a), 0) << "outward of its region";
+    }
+    points += region.points.size();
+  }
+  // The two interfaces' 8 + 8 corners are in two regions each.
+  EXPECT_EQ(points, mesh.points.size() + 16);
+
+  const TetMesh joined = merge_tet_regions(regions);
+  EXPECT_EQ(joined.points.size(), mesh.points.size());
+  EXPECT_EQ(joined.tets.size(), mesh.tets.size());
+  EXPECT_EQ(joined.boundary_faces.size(), 36u);
+  ASSERT_EQ(joined.tet_region.size(), joined.tets.size());
+  double joined_volume[3] = {0, 0, 0};
+  for (size_t t = 0; t < joined.tets.size(); ++t) joined_volume[joined.tet_region[t]] += volume6(joined, joined.tets[t]) / 6;
+  for (int r = 0; r < 3; ++r) EXPECT_NEAR(joined_volume[r], volume[r], 1e-9);
+
+  // THex and dice: hexes keep the region; the nodes on either inner box carry a facet.
+  const HexMesh hexes = dice(thex(joined), 2);
+  ASSERT_EQ(hexes.region.size(), hexes.hexes.size());
+  EXPECT_EQ(interface_quads(hexes).size(), 2 * 12 * 3 * 4u);  // 24 triangles, 3 quads each, diced in 4
+  auto on_box = [](const Vec3& p, double lo, double hi) {  // on the surface of [lo, hi]^3
+    const bool inside = (p.array() >= lo - 1e-12).all() && (p.array() <= hi + 1e-12).all();
+    return inside && (((p.array() - lo).abs() < 1e-12).any() || ((p.array() - hi).abs() < 1e-12).any());
+  };
+  size_t interface_nodes = 0;
+  for (size_t v = 0; v < hexes.nodes.size(); ++v)
+    if (on_box(hexes.nodes[v], 1, 4) || on_box(hexes.nodes[v], 2, 3)) {
+      ++interface_nodes;
+      EXPECT_GE(hexes.boundary_facet[v], 0) << "interface node " << v;
+    }
+  EXPECT_GT(interface_nodes, 0u);
 }
