@@ -26,10 +26,24 @@ namespace fs = std::filesystem;
 
 namespace {
 
-//! The named sets the output file carries (in formats that have sets), one line each kind.
-std::string sets_summary(const dthex::MeshSets& sets) {
+size_t sets_hexes(const dthex::MeshSets& sets) {
+  size_t n = 0;
+  for (const auto& p : sets.parts) n += p.hexes.size();
+  return n;
+}
+
+//! The named sets the output file carries (in formats that have sets), one line each kind, with
+//! each part's worst hex (`quality` of the mesh the sets are of).
+std::string sets_summary(const dthex::MeshSets& sets, const dthex::HexQuality& quality) {
   std::string parts, patches;
-  for (const auto& p : sets.parts) parts += " " + p.name + " (" + std::to_string(p.hexes.size()) + " hexes)";
+  for (const auto& p : sets.parts) {
+    double worst = 1;
+    for (int h : p.hexes) worst = std::min(worst, quality.scaled_jacobian[size_t(h)]);
+    char figure[64];
+    std::snprintf(figure, sizeof figure, ", min SJ %.3f", worst);
+    parts += " " + p.name + " (" + std::to_string(p.hexes.size()) + " hexes" +
+             (quality.scaled_jacobian.size() == sets_hexes(sets) ? figure : "") + ")";
+  }
   size_t patch_count = 0;
   for (const auto& s : sets.surfaces)
     if (s.name.rfind("patch", 0) == 0 && ++patch_count <= 6) {
@@ -40,10 +54,15 @@ std::string sets_summary(const dthex::MeshSets& sets) {
   if (patch_count > 6) patches += " ...";
   std::string user;
   for (const auto& s : sets.surfaces)
-    if (s.name.rfind("patch", 0) != 0 && s.name.find("_boundary") == std::string::npos)
+    if (s.name.rfind("patch", 0) != 0 && s.name.find("_boundary") == std::string::npos &&
+        s.name.find("_interface") == std::string::npos)
       user += "\n  set " + s.name + ": " + std::to_string(s.faces.size()) + " faces";
-  return "  parts: " + std::to_string(sets.parts.size()) + parts + "\n  boundary patches at planar regions and creases: " +
-         std::to_string(patch_count) + patches + user + "\n";
+  std::string interfaces;
+  for (const auto& s : sets.surfaces)
+    if (s.name.find("_interface") != std::string::npos)
+      interfaces += "\n  interface " + s.name + ": " + std::to_string(s.faces.size()) + " faces";
+  return "  parts: " + std::to_string(sets.parts.size()) + parts + interfaces +
+         "\n  boundary patches at planar regions and creases: " + std::to_string(patch_count) + patches + user + "\n";
 }
 
 
@@ -163,7 +182,7 @@ int run(CommandLine& cl) {
   if (!cl.quiet) {
     std::fputs(dthex::summary_table(result, cl.pipeline).c_str(), stdout);
     if (baseline) std::fputs(("\n" + dthex::summary_table(*baseline, baseline_options)).c_str(), stdout);
-    std::fputs(sets_summary(sets).c_str(), stdout);
+    std::fputs(sets_summary(sets, result.quality).c_str(), stdout);
     std::printf("  wrote %s\n", cl.output.c_str());
   }
   return kExitOk;
@@ -272,6 +291,14 @@ int main(int argc, char** argv) {
             return "";
           },
           "N|F%"));
+  std::string nested = "cavity";
+  app.add_option("--nested", nested,
+                 "a closed surface inside another: cavity (default) leaves its inside empty; material meshes it as a\n"
+                 "second region, conforming with the outer one (shared interface nodes on the inner surface): a\n"
+                 "cortical shell and its trabecular core, a tumour in an organ. Each region is a part of its own, and\n"
+                 "the faces between two are a set bodyM_bodyN_interface")
+      ->default_val("cavity")
+      ->check(CLI::IsMember({"cavity", "material"}));
   std::string remesh = "auto";
   app.add_option("--remesh", remesh,
                  "remesh the input with even triangles before coarsening (split, collapse, flip, relax; feature lines\n"
@@ -342,6 +369,8 @@ int main(int argc, char** argv) {
     if (cl.pipeline.repair == dthex::PipelineOptions::Repair::none &&
         (cl.pipeline.min_island_triangles > 0 || cl.pipeline.min_island_volume_fraction > 0))
       throw CLI::ValidationError("--min-island", "drops triangles, a repair: it needs --repair safe, not none");
+    cl.pipeline.nested =
+        nested == "material" ? dthex::PipelineOptions::Nested::material : dthex::PipelineOptions::Nested::cavity;
     cl.pipeline.remesh = remesh == "on"    ? dthex::PipelineOptions::Remesh::always
                          : remesh == "off" ? dthex::PipelineOptions::Remesh::never
                                            : dthex::PipelineOptions::Remesh::automatic;

@@ -311,12 +311,25 @@ std::vector<int> patches_by_input_creases(const HexMesh& mesh, const std::vector
 MeshSets sets_with_patches(const HexMesh& mesh, const std::vector<std::array<int, 4>>& quads,
                            const std::vector<int>& owners, const std::vector<int>& patch_label) {
   MeshSets sets;
-  // Parts: hexes connected through shared nodes.
-  DisjointSets nodes(mesh.nodes.size());
-  for (const auto& h : mesh.hexes)
-    for (int i = 1; i < 8; ++i) nodes.join(h[0], h[size_t(i)]);
   std::vector<int> part_label(mesh.hexes.size());
-  for (size_t h = 0; h < mesh.hexes.size(); ++h) part_label[h] = nodes.find(mesh.hexes[h][0]);
+  if (mesh.region.size() != mesh.hexes.size()) {
+    // Parts: hexes connected through shared nodes.
+    DisjointSets nodes(mesh.nodes.size());
+    for (const auto& h : mesh.hexes)
+      for (int i = 1; i < 8; ++i) nodes.join(h[0], h[size_t(i)]);
+    for (size_t h = 0; h < mesh.hexes.size(); ++h) part_label[h] = nodes.find(mesh.hexes[h][0]);
+  } else {
+    // ... of one region: hexes joined when they share a node and their region.
+    std::vector<std::pair<std::pair<int, int>, int>> uses;  // ((node, region), hex)
+    uses.reserve(8 * mesh.hexes.size());
+    for (size_t h = 0; h < mesh.hexes.size(); ++h)
+      for (int v : mesh.hexes[h]) uses.push_back({{v, mesh.region[h]}, int(h)});
+    std::sort(uses.begin(), uses.end());
+    DisjointSets hexes(mesh.hexes.size());
+    for (size_t i = 1; i < uses.size(); ++i)
+      if (uses[i].first == uses[i - 1].first) hexes.join(uses[i].second, uses[i - 1].second);
+    for (size_t h = 0; h < mesh.hexes.size(); ++h) part_label[h] = hexes.find(int(h));
+  }
   const std::vector<std::vector<size_t>> parts =
       groups_by_weight(part_label, std::vector<double>(mesh.hexes.size(), 1.0));
   std::vector<int> part_of_hex(mesh.hexes.size(), -1);
@@ -336,6 +349,7 @@ MeshSets sets_with_patches(const HexMesh& mesh, const std::vector<std::array<int
     faces[q] = {owners[q], side_of(mesh.hexes[size_t(owners[q])], quads[q])};
     areas[q] = quad_area(mesh, quads[q]);
   }
+  std::vector<std::array<int, 4>> all_quads = quads;  // and the interfaces' below
   auto face_set = [&](const std::string& name, const std::vector<size_t>& ids) {
     FaceSet set{name, {}, 0};
     for (size_t q : ids) {
@@ -343,11 +357,33 @@ MeshSets sets_with_patches(const HexMesh& mesh, const std::vector<std::array<int
       set.area += areas[q];
     }
     sets.surfaces.push_back(std::move(set));
-    sets.node_sets.push_back(nodes_of(name, ids, quads));
+    sets.node_sets.push_back(nodes_of(name, ids, all_quads));
   };
   std::vector<std::vector<size_t>> boundary_of_part(parts.size());
   for (size_t q = 0; q < quads.size(); ++q) boundary_of_part[size_t(part_of_hex[size_t(owners[q])])].push_back(q);
+  // The faces between regions: on both parts' boundaries (each as a face of its own hex), and
+  // one surface per pair of parts, faced from the lower region's part into the higher one's.
+  std::vector<int> interface_owners, interface_others;
+  std::vector<std::array<int, 4>> interface = interface_quads(mesh, &interface_owners, &interface_others);
+  std::map<std::pair<int, int>, std::vector<size_t>> interface_of_pair;
+  for (size_t i = 0; i < interface.size(); ++i) {
+    const int a = part_of_hex[size_t(interface_owners[i])], b = part_of_hex[size_t(interface_others[i])];
+    const HexFace inner{interface_others[i], side_of(mesh.hexes[size_t(interface_others[i])], interface[i])};
+    std::array<int, 4> reversed = interface[i];
+    std::reverse(reversed.begin(), reversed.end());
+    interface_of_pair[{std::min(a, b), std::max(a, b)}].push_back(faces.size());
+    boundary_of_part[size_t(a)].push_back(faces.size());
+    faces.push_back({interface_owners[i], side_of(mesh.hexes[size_t(interface_owners[i])], interface[i])});
+    areas.push_back(quad_area(mesh, interface[i]));
+    all_quads.push_back(interface[i]);
+    boundary_of_part[size_t(b)].push_back(faces.size());
+    faces.push_back(inner);
+    areas.push_back(areas.back());
+    all_quads.push_back(reversed);
+  }
   for (size_t p = 0; p < parts.size(); ++p) face_set(sets.parts[p].name + "_boundary", boundary_of_part[p]);
+  for (const auto& [pair, ids] : interface_of_pair)
+    face_set(sets.parts[size_t(pair.first)].name + "_" + sets.parts[size_t(pair.second)].name + "_interface", ids);
   // A patch never spans two parts: the label is made unique per part.
   std::vector<int> label(quads.size());
   std::map<std::pair<int, int>, int> unique;
@@ -376,7 +412,7 @@ MeshSets find_mesh_sets(const HexMesh& mesh, const TriSurface& input, const Mesh
 namespace {
 
 bool is_generated_name(const std::string& name) {
-  static const std::regex generated(R"((body\d+(_boundary)?)|(patch\d+))");
+  static const std::regex generated(R"((body\d+(_boundary)?)|(patch\d+)|(body\d+_body\d+_interface))");
   return std::regex_match(name, generated);
 }
 
@@ -391,7 +427,7 @@ UserSetSpec parse_user_set(const std::string& text) {
   spec.name = m[1];
   if (is_generated_name(spec.name))
     throw InputError("--set '" + text + "': the name '" + spec.name +
-                     "' is one om_dthex gives its own sets (bodyN, bodyN_boundary, patchN); choose another");
+                     "' is one om_dthex gives its own sets (bodyN, bodyN_boundary, patchN, bodyM_bodyN_interface); choose another");
   spec.kind = m[2] == "box" ? UserSetSpec::Kind::Box : UserSetSpec::Kind::Plane;
   std::vector<double> values;
   std::stringstream list(m[3].str());
@@ -422,10 +458,17 @@ UserSetSpec parse_user_set(const std::string& text) {
 }
 
 void add_user_sets(MeshSets& sets, const HexMesh& mesh, const std::vector<UserSetSpec>& specs) {
-  std::vector<HexFace> boundary;
-  for (const FaceSet& s : sets.surfaces)
-    if (s.name.size() > 9 && s.name.compare(s.name.size() - 9, 9, "_boundary") == 0 && is_generated_name(s.name))
-      boundary.insert(boundary.end(), s.faces.begin(), s.faces.end());
+  if (specs.empty()) return;
+  // The faces of the mesh's boundary (not those between material regions).
+  std::vector<int> owners;
+  const std::vector<std::array<int, 4>> quads = boundary_quads(mesh, &owners);
+  std::vector<HexFace> boundary(quads.size());
+  for (size_t q = 0; q < quads.size(); ++q) boundary[q] = {owners[q], side_of(mesh.hexes[size_t(owners[q])], quads[q])};
+  std::vector<size_t> part_of_hex(mesh.hexes.size(), 0);  // part by part, as the parts' boundaries list them
+  for (size_t p = 0; p < sets.parts.size(); ++p)
+    for (int h : sets.parts[p].hexes) part_of_hex[size_t(h)] = p;
+  std::stable_sort(boundary.begin(), boundary.end(),
+                   [&](const HexFace& a, const HexFace& b) { return part_of_hex[size_t(a.hex)] < part_of_hex[size_t(b.hex)]; });
   for (const UserSetSpec& spec : specs) {
     for (const FaceSet& s : sets.surfaces)
       if (s.name == spec.name) throw InputError("--set " + spec.name + ": the name is given twice");

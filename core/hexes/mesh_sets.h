@@ -46,7 +46,10 @@ struct NodeSet {
 //! the node set of its faces' nodes share a name.
 struct MeshSets {
   std::vector<HexSet> parts;         //!< body1, body2, ... by hex count, largest first
-  std::vector<FaceSet> surfaces;     //!< body1_boundary, ..., then patch1, patch2, ... by area
+  //! body1_boundary, ..., then bodyM_bodyN_interface for each two material regions that touch
+  //! (the faces of bodyM's hexes, M < N), then patch1, patch2, ... by area. A part's boundary
+  //! holds its interfaces too, each face as a face of the part's own hex.
+  std::vector<FaceSet> surfaces;
   std::vector<NodeSet> node_sets;    //!< one per surface, same name, its faces' nodes
 };
 
@@ -68,8 +71,9 @@ struct MeshSetsOptions {
   double planar_min_area_fraction = 0.01;
 };
 
-//! Finds the parts (hexes connected through shared nodes), each part's boundary (faces used by
-//! one hex) and the boundary's patches. Here the patches come from the hex boundary itself:
+//! Finds the parts (hexes connected through shared nodes, and of one region when mesh.region is
+//! set), each part's boundary (faces used by one hex, and its faces on another region), the
+//! interfaces between regions, and the boundary's patches. Here the patches come from the hex boundary itself:
 //! faces joined across boundary edges whose dihedral angle is below the crease angle (an edge of
 //! more than two boundary faces always separates). That finds the sharp edges of a mesh whose
 //! boundary keeps them, not a crease that the boundary rounds over a few faces: use the overload
@@ -100,11 +104,12 @@ struct UserSetSpec {
 //! Parses "NAME=box:X0,Y0,Z0,X1,Y1,Z1" or "NAME=plane:PX,PY,PZ,NX,NY,NZ,DISTANCE" (a point on
 //! the plane, its normal, and the distance, in the input's units). NAME is letters, digits and
 //! underscores, starting with a letter, and not one of the names find_mesh_sets() makes
-//! (bodyN, bodyN_boundary, patchN). Throws InputError quoting the text and the expected form.
+//! (bodyN, bodyN_boundary, patchN, bodyM_bodyN_interface). Throws InputError quoting the text and the expected form.
 UserSetSpec parse_user_set(const std::string& text);
 
 //! Adds each user set to `sets` as a face set and a node set of its name: the boundary faces
-//! (those of the parts' boundaries) whose four corners are all inside it. Throws InputError
+//! (of the mesh's boundary, part by part; not the faces between material regions) whose four
+//! corners are all inside it. Throws InputError
 //! naming the set when it selects no face, or when its name is already used.
 void add_user_sets(MeshSets& sets, const HexMesh& mesh, const std::vector<UserSetSpec>& specs);
 

@@ -13,7 +13,8 @@
 namespace dthex {
 
 struct NodeConstraints {
-  //! The mesh's boundary faces as outward quads (conformity.h's boundary_quads()).
+  //! The mesh's boundary faces as outward quads (conformity.h's boundary_quads()), then the
+  //! faces between its regions (interface_quads()), whose nodes are held on the surface too.
   std::vector<std::array<int, 4>> boundary_quads;
   //! Per node: on the boundary (a node of a boundary quad, or one with a boundary facet).
   //! Empty, or not of the mesh's node count, means not known: a stage then finds them.

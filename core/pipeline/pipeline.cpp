@@ -26,6 +26,7 @@
 #include <dthex/tets/relax_interior_points.h>
 #include <dthex/tets/remove_flat_valence3_vertices.h>
 #include <dthex/tets/split_surface_tets.h>
+#include <dthex/tets/tet_regions.h>
 #include <dthex/tets/tetrahedralize.h>
 
 #include <algorithm>
@@ -100,6 +101,7 @@ TetgenOptions tetgen_options_for(const PipelineOptions& options) {
   TetgenOptions t;
   t.switches = tetgen_switches_for(options);
   t.time_limit_seconds = options.time_limit_seconds;
+  t.keep_nested_regions = options.nested == PipelineOptions::Nested::material;
   return t;
 }
 
@@ -150,6 +152,18 @@ void improve_tets_for_projection(TetMesh& tets, const StageRunner& stage) {
   stage("relax inner points", [&] { return StageReport(relax_interior_points(tets)); });
 }
 
+// improve_tets_for_projection on each material region alone (tet_regions.h: its stages take a
+// face with two tets for interior, an interface face too), the stage names then saying which.
+void improve_tets_of_each_region(TetMesh& tets, const StageRunner& stage) {
+  if (tets.tet_region.empty()) return improve_tets_for_projection(tets, stage);
+  std::vector<TetMesh> regions = split_tet_regions(tets);
+  for (size_t r = 0; r < regions.size(); ++r)
+    improve_tets_for_projection(regions[r], [&](const std::string& name, const std::function<StageReport()>& step) {
+      stage(name + " (region " + std::to_string(r + 1) + ")", step);
+    });
+  tets = merge_tet_regions(regions);
+}
+
 // The tets a given eps gives, counted: coarsen and tet-mesh as the pipeline does. The final
 // node count of any dicing follows from them (diced_thex_nodes): projection and untangling
 // move nodes, they add none.
@@ -160,7 +174,7 @@ TetCounts predicted_tet_counts(const TriSurface& input, const PipelineOptions& o
   verify_coarse_surface(coarse, "coarse surface");
   TetMesh tets = tetrahedralize(coarse, tetgen_options_for(options));
   const StageRunner silently = [](const std::string&, const std::function<StageReport()>& step) { step(); };
-  if (options.project) improve_tets_for_projection(tets, silently);
+  if (options.project) improve_tets_of_each_region(tets, silently);
   return count_tet_entities(tets);
 }
 
@@ -454,7 +468,7 @@ void coarsen_input(Meshing& m) {
   }
 }
 
-// TetGen's tets of the coarse surface, with projection improved for it (improve_tets_for_projection).
+// TetGen's tets of the coarse surface, with projection improved for it (improve_tets_of_each_region).
 TetMesh mesh_with_tets(Meshing& m) {
   PipelineResult& result = m.result;
   TetMesh tets;
@@ -465,13 +479,14 @@ TetMesh mesh_with_tets(Meshing& m) {
     return TetrahedralizeReport{result.tets};
   });
   if (!m.options.thex_only && m.options.project) {
-    improve_tets_for_projection(tets, [&](const std::string& name, const std::function<StageReport()>& step) {
+    improve_tets_of_each_region(tets, [&](const std::string& name, const std::function<StageReport()>& step) {
       m.stage(name, [&] {
         StageReport report = step();
         result.tets = tets.tets.size();
         return report;
       });
     });
+    result.tets = tets.tets.size();
     result.tet_shape = summarize(tet_shapes(tets));  // the tets THex gets
   }
   return tets;
@@ -571,6 +586,28 @@ void repair_folds(Meshing& m, Conformity& conformity) {
   });
 }
 
+// Each material region's hexes judged alone: counts, worst hex, and conformity (its boundary
+// with the interfaces closed and not folded into its own volume).
+void measure_regions(PipelineResult& result) {
+  const HexMesh& mesh = result.hexes;
+  int n_regions = 0;
+  for (int r : mesh.region) n_regions = std::max(n_regions, r + 1);
+  result.regions.assign(size_t(n_regions), RegionMeasure());
+  for (RegionMeasure& r : result.regions) r.min_scaled_jacobian = 1;
+  for (size_t h = 0; h < mesh.hexes.size(); ++h) {
+    RegionMeasure& r = result.regions[size_t(mesh.region[h])];
+    ++r.hexes;
+    const double sj = result.quality.scaled_jacobian[h];
+    r.inverted += sj <= 0;
+    r.min_scaled_jacobian = std::min(r.min_scaled_jacobian, sj);
+  }
+  for (size_t r = 0; r < result.regions.size(); ++r) {
+    const ConformityReport c = check_conformity(region_submesh(mesh, int(r)));
+    result.regions[r].conforming = c.conforming();
+    result.regions[r].boundary_faces_inside = c.boundary_faces_inside;
+  }
+}
+
 // Quality, conformity, volume and the distance to the input.
 void measure(Meshing& m, Conformity& conformity) {
   PipelineResult& result = m.result;
@@ -581,7 +618,14 @@ void measure(Meshing& m, Conformity& conformity) {
     result.conforming = conformity.report.conforming();
     result.boundary_faces_inside = conformity.report.boundary_faces_inside;
     result.first_inside_point = conformity.report.first_inside_point;
-    const TriSurface boundary = quads_to_triangles(result.hexes.nodes, conformity.quads);
+    std::vector<std::array<int, 4>> quads = conformity.quads;
+    if (!result.hexes.region.empty()) {
+      measure_regions(result);
+      for (const RegionMeasure& r : result.regions) result.conforming = result.conforming && r.conforming;
+      const std::vector<std::array<int, 4>> interface = interface_quads(result.hexes);
+      quads.insert(quads.end(), interface.begin(), interface.end());
+    }
+    const TriSurface boundary = quads_to_triangles(result.hexes.nodes, quads);
     result.hex_volume = enclosed_volume(boundary);
     const TriangleBvh boundary_bvh(boundary);
     const SurfaceDistance distance = surface_distance(boundary, boundary_bvh, result.input, m.input_bvh);

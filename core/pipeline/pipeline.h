@@ -67,6 +67,11 @@ struct PipelineOptions {
   //! its default: the worst hexes rise (0.27-0.29 -> 0.36-0.40 at 18 on the bundled meshes) for
   //! 10-40% more nodes (60% on the armadillo), docs/CASE_STUDIES.md, "Bounded dihedral angles".
   double min_dihedral_deg = 0;
+  //! A closed surface inside another: a cavity (its inside is not meshed), or a second
+  //! material, meshed conformingly with the outer one (the interface nodes shared and held on
+  //! the inner surface; each region its own part in the output files).
+  enum class Nested { cavity, material };
+  Nested nested = Nested::cavity;
   //! TetGen switches; empty = tetgen_switches_for's default for the method (overrides
   //! min_dihedral_deg's switches, not its smoothing target).
   std::string tetgen_switches;
@@ -81,6 +86,17 @@ struct PipelineOptions {
   //! when needles are kRemeshNeedleShare or more of its triangles (CAD exports), always, or never.
   enum class Remesh { automatic, always, never };
   Remesh remesh = Remesh::automatic;
+};
+
+//! One material region of the mesh (PipelineOptions::Nested::material), judged alone.
+struct RegionMeasure {
+  size_t hexes = 0;
+  size_t inverted = 0;
+  double min_scaled_jacobian = 0;
+  //! check_conformity() of the region's hexes alone (region_submesh()): its boundary, the
+  //! interfaces included, closed and not folded into its own volume.
+  bool conforming = false;
+  size_t boundary_faces_inside = 0;
 };
 
 struct PipelineResult {
@@ -109,7 +125,13 @@ struct PipelineResult {
   size_t boundary_faces_inside = 0;
   Vec3 first_inside_point = Vec3::Zero();
   double hausdorff = 0, mean_distance = 0;  //!< hex boundary vs input, input units
+  //! Enclosed by the boundary, and with material regions by their interfaces too, faced as the
+  //! input's inner surfaces are (so it is outer minus inner volume, as the input's summary is);
+  //! hausdorff and mean_distance likewise measure the interfaces against the inner surfaces.
   double hex_volume = 0;
+  //! Per material region (HexMesh::region), when there are several; `conforming` above then
+  //! also needs every region to conform on its own.
+  std::vector<RegionMeasure> regions;
   size_t inverted_before_untangle = 0;
   //! Input vertices sized by wall thickness (--thickness-ratio) or, with that off and poor
   //! hexes left, on walls thinner than their size (what the summary's hint counts).

@@ -542,6 +542,10 @@ std::string summary_table(const PipelineResult& r, const PipelineOptions& o) {
       out << " " << r.worst_hexes[i] << " (SJ " << r.quality.scaled_jacobian[r.worst_hexes[i]] << ")";
     out << "\n";
   }
+  for (size_t i = 0; i < r.regions.size(); ++i)
+    if (!r.regions[i].conforming)
+      out << "  WARNING: material region " << i + 1 << " alone is not conforming (" << r.regions[i].boundary_faces_inside
+          << " of its boundary faces, interfaces included, lie inside it)\n";
   if (r.boundary_faces_inside > 0) {
     char where[160];
     std::snprintf(where, sizeof where, "(%.6g, %.6g, %.6g)", r.first_inside_point.x(), r.first_inside_point.y(),
@@ -602,6 +606,7 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
                   {"strict", o.strict},
                   {"knife_edge_slide", o.knife_edge_slide},
                   {"min_dihedral", o.min_dihedral_deg},
+                  {"nested", o.nested == PipelineOptions::Nested::material ? "material" : "cavity"},
                   {"remesh", o.remesh == PipelineOptions::Remesh::always  ? "on"
                              : o.remesh == PipelineOptions::Remesh::never ? "off"
                                                                           : "auto"},
@@ -631,6 +636,16 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
               {"shape_histogram", {{"lo", 0.0}, {"hi", 1.0}, {"counts", histogram(r.quality.shape, 20, 0.0, 1.0)}}},
               {"scaled_jacobian_histogram",
                {{"lo", -1.0}, {"hi", 1.0}, {"counts", histogram(r.quality.scaled_jacobian, 40, -1.0, 1.0)}}}};
+  if (!r.regions.empty()) {  // --nested material: each region judged alone
+    nlohmann::json regions = nlohmann::json::array();
+    for (const RegionMeasure& region : r.regions)
+      regions.push_back({{"hexes", region.hexes},
+                         {"inverted", region.inverted},
+                         {"scaled_jacobian_min", region.min_scaled_jacobian},
+                         {"conforming", region.conforming},
+                         {"boundary_faces_inside", region.boundary_faces_inside}});
+    j["hex"]["regions"] = regions;
+  }
   j["distance"] = {{"hausdorff", r.hausdorff},
                    {"hausdorff_relative", r.input_summary.bbox_diagonal > 0 ? r.hausdorff / r.input_summary.bbox_diagonal : 0.0},
                    {"mean", r.mean_distance}};

@@ -172,6 +172,41 @@ TEST(MeshSets, DisjointBodiesArePartsNamedBySize) {
   EXPECT_EQ(patches, 12u);
 }
 
+//! Two material regions sharing nodes (HexMesh::region): the block's left column (x < 1) and the
+//! rest. Each region is a part, each part's boundary holds the interface as faces of its own hexes,
+//! and the interface is a surface faced from region 0 into region 1; user sets and patches see
+//! only the outer boundary.
+TEST(MeshSets, MaterialRegionsArePartsWithTheirInterfaceBetween) {
+  HexMesh m = hex_block(Vec3(0, 0, 0), Vec3(3, 2, 1), 3, 2, 1);
+  m.region.resize(m.hexes.size());
+  for (size_t h = 0; h < m.hexes.size(); ++h) m.region[h] = hex_centre(m, int(h)).x() < 1 ? 1 : 0;
+  MeshSets s = find_mesh_sets(m);
+  ASSERT_EQ(s.parts.size(), 2u);
+  EXPECT_EQ(s.parts[0].hexes.size(), 4u);  // region 0, the larger, is body1
+  EXPECT_EQ(s.parts[1].hexes.size(), 2u);
+  for (int h : s.parts[1].hexes) EXPECT_EQ(m.region[size_t(h)], 1);
+  const FaceSet& interface = surface(s, "body1_body2_interface");
+  ASSERT_EQ(interface.faces.size(), 2u);  // the x = 1 plane, 2 faces of area 1
+  EXPECT_NEAR(interface.area, 2.0, 1e-12);
+  for (const HexFace& f : interface.faces) {
+    EXPECT_EQ(m.region[size_t(f.hex)], 0);
+    EXPECT_LT(face_area_vector(m, f).x(), 0) << "faces from region 0 into region 1 (towards -x)";
+  }
+  // 14 outer faces + 2 for body1, 8 outer + 2 for body2; the two sides of the interface are
+  // faces of different hexes.
+  EXPECT_EQ(surface(s, "body1_boundary").faces.size(), 16u);
+  EXPECT_EQ(surface(s, "body2_boundary").faces.size(), 10u);
+  for (const HexFace& f : surface(s, "body2_boundary").faces) EXPECT_EQ(m.region[size_t(f.hex)], 1);
+  double patch_area = 0;
+  for (const FaceSet& f : s.surfaces)
+    if (f.name.rfind("patch", 0) == 0) patch_area += f.area;
+  EXPECT_NEAR(patch_area, 22.0, 1e-12) << "patches cover the outer boundary only";
+  EXPECT_THROW(add_user_sets(s, m, {parse_user_set("cut=plane:1,0,0,1,0,0,1e-9")}), InputError)
+      << "the interface is not a boundary a user set can select";
+  add_user_sets(s, m, {parse_user_set("floor=plane:0,0,0,0,0,1,1e-9")});
+  EXPECT_EQ(surface(s, "floor").faces.size(), 6u);
+}
+
 TEST(MeshSets, UserSetsByBoxAndPlaneSelectWholeBoundaryFaces) {
   const HexMesh m = hex_block(Vec3(0, 0, 0), Vec3(3, 2, 1), 3, 2, 1);
   MeshSets s = find_mesh_sets(m);

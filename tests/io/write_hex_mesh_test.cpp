@@ -451,16 +451,18 @@ elif path.endswith('.feb'):
     for surface in mesh.findall('Surface'):
         facets = [[int(v) for v in q.text.split(',')] for q in surface.findall('quad4')]
         bad = 0
-        for f in facets:
-            owners = by_nodes.get(frozenset(f), [])
-            if len(owners) != 1: bad += 1; continue
-            hid, s = owners[0]
+        # A facet is good when it is an outward face of a hex that has it (one hex on the
+        # boundary; either of two on an interface between material regions).
+        def outward_of(f, hid, s):
             c = hexes[hid]
-            if not cyclic(f, [c[k] for k in s]): bad += 1; continue
+            if not cyclic(f, [c[k] for k in s]): return False
             p = [points[v] for v in f]
             normal = np.cross(p[2] - p[0], p[3] - p[1])
             centre = np.mean([points[v] for v in c], axis=0)
-            if np.dot(normal, np.mean(p, axis=0) - centre) <= 0: bad += 1
+            return np.dot(normal, np.mean(p, axis=0) - centre) > 0
+        for f in facets:
+            owners = by_nodes.get(frozenset(f), [])
+            if len(owners) not in (1, 2) or not any(outward_of(f, hid, s) for hid, s in owners): bad += 1
         out['surfaces'][surface.get('name')] = dict(facets=facets, bad=bad,
                                                     ids=[int(q.get('id')) for q in surface.findall('quad4')])
 elif path.endswith('.exo'):
@@ -706,6 +708,49 @@ TEST(WriteHexMesh, EveryFormatCarriesTheSetsItsReaderReadsBack) {
         ++c;
       }
   }
+}
+
+//! Two material regions (HexMesh::region) that share nodes: gmsh, meshio and the FEBio and Exodus
+//! readers see two parts, each part's boundary with the interface, and the interface surface,
+//! with the counts find_mesh_sets() gives; the interface's FEBio facets are faces of its hexes.
+TEST(WriteHexMesh, MaterialRegionsAndTheirInterfaceReadBackInEveryFormat) {
+  if (!dthex_test::meshio_available()) GTEST_SKIP() << "/usr/bin/python3 cannot import meshio";
+  HexMesh mesh = unit_cubes();
+  mesh.region.resize(mesh.hexes.size());
+  for (size_t h = 0; h < mesh.hexes.size(); ++h) mesh.region[h] = mesh.nodes[size_t(mesh.hexes[h][0])].x() < 1 ? 0 : 1;
+  const dthex::MeshSets sets = dthex::find_mesh_sets(mesh);
+  ASSERT_EQ(sets.parts.size(), 2u);
+  const auto interface = std::find_if(sets.surfaces.begin(), sets.surfaces.end(),
+                                      [](const dthex::FaceSet& f) { return f.name == "body1_body2_interface"; });
+  ASSERT_NE(interface, sets.surfaces.end());
+  ASSERT_EQ(interface->faces.size(), 4u);
+  const fs::path dir = fresh_folder("regions");
+
+  const fs::path msh = dir / "m.msh";
+  dthex::write_hex_mesh(mesh, msh.string(), {}, &sets);
+  const json groups = read_sets_back(msh);
+  ASSERT_EQ(groups["groups"].size(), sets.parts.size() + sets.surfaces.size());
+  for (const dthex::HexSet& part : sets.parts)
+    EXPECT_EQ(groups["meshio_counts"][part.name].get<size_t>(), part.hexes.size()) << part.name;
+  for (const dthex::FaceSet& set : sets.surfaces)
+    EXPECT_EQ(groups["meshio_counts"][set.name].get<size_t>(), set.faces.size()) << set.name;
+
+  const fs::path feb = dir / "m.feb";
+  dthex::write_hex_mesh(mesh, feb.string(), {}, &sets);
+  const json febio = read_sets_back(feb);
+  ASSERT_EQ(febio["parts"].size(), 2u);
+  EXPECT_EQ(febio["surfaces"]["body1_body2_interface"]["facets"].size(), 4u);
+  for (const dthex::FaceSet& set : sets.surfaces)
+    EXPECT_EQ(febio["surfaces"][set.name]["bad"].get<int>(), 0) << set.name << ": facets that are not faces of a hex";
+
+  const fs::path exo = dir / "m.exo";
+  dthex::write_hex_mesh(mesh, exo.string(), {}, &sets);
+  const json exodus = read_sets_back(exo);
+  ASSERT_EQ(exodus["blocks"]["names"].size(), 2u);
+  for (const dthex::FaceSet& set : sets.surfaces)
+    EXPECT_EQ(exodus["side_sets"][set.name].size(), set.faces.size()) << set.name;
+  for (const dthex::NodeSet& set : sets.node_sets)
+    EXPECT_EQ(exodus["node_sets"][set.name].size(), set.nodes.size()) << set.name;
 }
 
 TEST(WriteHexMesh, SetsThatDoNotMatchTheMeshAreRefused) {

@@ -440,6 +440,44 @@ TEST(Cli, MinIslandDropsANoiseIslandBesideTheSphere) {
   fs::remove_all(dir);
 }
 
+// --nested material: a sphere inside the sphere (both given facing outwards, as a segmentation
+// exports them) is a second part, with its interface a surface of its own in the .inp and each
+// region judged alone in the report; a value other than cavity or material is exit 2.
+TEST(Cli, NestedMaterialIsASecondPartWithItsInterface) {
+  const fs::path dir = scratch("nested");
+  dthex::TriSurface s = dthex::read_surface(mesh("sphere728.off"));
+  const int base = int(s.points.size());
+  const size_t triangles = s.triangles.size();
+  for (int v = 0; v < base; ++v) s.points.push_back(0.5 * s.points[size_t(v)]);
+  for (size_t t = 0; t < triangles; ++t) {
+    auto tri = s.triangles[t];
+    for (int& v : tri) v += base;
+    s.triangles.push_back(tri);
+  }
+  write_bytes(dir / "nested.off", off_text(s));
+  const std::string input = (dir / "nested.off").string();
+  const CommandRun run = om_dthex(input + " --nested material --eps 0.05 --thickness-ratio 1 -o " +
+                                      (dir / "n.inp").string() + " --report " + (dir / "n.json").string(),
+                                  dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("parts: 2 body1 ("), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("interface body1_body2_interface: "), std::string::npos) << run.out;
+  const std::string inp = read_bytes(dir / "n.inp");
+  EXPECT_NE(inp.find("*ELSET, ELSET=body2\n"), std::string::npos);
+  EXPECT_NE(inp.find("*SURFACE, NAME=body1_body2_interface, TYPE=ELEMENT\n"), std::string::npos);
+  const nlohmann::json report = nlohmann::json::parse(read_bytes(dir / "n.json"));
+  EXPECT_EQ(report["options"]["nested"], "material");
+  ASSERT_EQ(report["hex"]["regions"].size(), 2u);
+  for (const auto& region : report["hex"]["regions"]) {
+    EXPECT_TRUE(region["conforming"].get<bool>());
+    EXPECT_EQ(region["inverted"].get<int>(), 0);
+  }
+  const CommandRun bad = om_dthex(input + " --nested solid --verify-only", dir);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--nested"), std::string::npos) << bad.err;
+  fs::remove_all(dir);
+}
+
 // --min-island F% drops closed islands below F percent of the largest one's volume.
 TEST(Cli, MinIslandAsAVolumePercentage) {
   const fs::path dir = scratch("island_volume");

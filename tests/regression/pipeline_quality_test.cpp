@@ -127,7 +127,11 @@ TEST(PipelineQuality, FemurMeetsDoneWhen) { expect_done_when("femur_proximal_ct.
 //! TetGen fills what it encloses unless told otherwise, so the hexes must leave it empty:
 //! the volume is the shell's, and the inner surface is part of the boundary (a filled
 //! cavity made the volume +14% and the Hausdorff distance 1.5 radii of the inner sphere).
-TEST(PipelineQuality, HollowSphereLeavesItsCavityEmpty) {
+namespace {
+
+//! The bundled sphere (r = 1) with the same sphere at r = 0.5 inside it, facing inwards, written
+//! to a fresh folder named `folder`; returns its path.
+std::string sphere_in_sphere(const std::string& folder) {
   TriSurface shell = read_surface(DTHEX_SOURCE_DIR "/meshes/sphere728.off");
   const int offset = int(shell.points.size());
   const size_t outer_triangles = shell.triangles.size();
@@ -136,16 +140,27 @@ TEST(PipelineQuality, HollowSphereLeavesItsCavityEmpty) {
     const auto tri = shell.triangles[t];
     shell.triangles.push_back({tri[0] + offset, tri[2] + offset, tri[1] + offset});  // facing the cavity
   }
-  const std::string path = (dthex_test::fresh_dir("hollow_sphere") / "shell.off").string();
+  const std::string path = (dthex_test::fresh_dir(folder) / "shell.off").string();
   write_surface(shell, path);
-  // A wall a quarter of the diameter: sized by its thickness and at eps 0.05 (0.5 s; the
-  // defaults mesh it twice, 7 s, and the inner sphere's 58-vertex coarse version ends at
-  // Hausdorff 1.07%).
+  return path;
+}
+
+//! A wall a quarter of the diameter: sized by its thickness and at eps 0.05 (0.5 s; the
+//! defaults mesh it twice, 7 s, and the inner sphere's 58-vertex coarse version ends at
+//! Hausdorff 1.07%).
+PipelineOptions sphere_in_sphere_options() {
   PipelineOptions options;
   options.eps = 0.05;
   options.thickness_ratio = 1;
+  return options;
+}
+
+}  // namespace
+
+TEST(PipelineQuality, HollowSphereLeavesItsCavityEmpty) {
+  const std::string path = sphere_in_sphere("hollow_sphere");
   Progress quiet;
-  const PipelineResult r = run_pipeline(path, options, quiet);
+  const PipelineResult r = run_pipeline(path, sphere_in_sphere_options(), quiet);
   EXPECT_EQ(r.input_summary.cavities, 1u);
   EXPECT_NEAR(r.hex_volume, r.input_summary.volume, 0.02 * r.input_summary.volume);
   EXPECT_LE(r.hausdorff, 0.01 * r.input_summary.bbox_diagonal);
@@ -154,6 +169,60 @@ TEST(PipelineQuality, HollowSphereLeavesItsCavityEmpty) {
   EXPECT_TRUE(boundary_closed(r.hexes));
   // No node in the cavity: every one at radius 0.5 or more (less the facets' sagitta).
   for (const Vec3& p : r.hexes.nodes) ASSERT_GT(p.norm(), 0.49);
+}
+
+//! --nested material: the inner sphere's inside is a second region, meshed conformingly with the
+//! shell around it: the two share their interface nodes, which lie on the inner sphere, each
+//! region is closed and valid on its own, and the core fills the inner sphere (in cavity mode,
+//! above, no node lies inside it).
+TEST(PipelineQuality, SphereInASphereAsASecondMaterialSharesItsInterface) {
+  const std::string path = sphere_in_sphere("sphere_in_sphere");
+  PipelineOptions options = sphere_in_sphere_options();
+  options.nested = PipelineOptions::Nested::material;
+  Progress quiet;
+  const PipelineResult r = run_pipeline(path, options, quiet);
+  const HexMesh& mesh = r.hexes;
+  ASSERT_EQ(mesh.region.size(), mesh.hexes.size());
+  ASSERT_EQ(r.regions.size(), 2u);
+  for (const RegionMeasure& region : r.regions) {
+    EXPECT_TRUE(region.conforming);
+    EXPECT_EQ(region.inverted, 0u);
+    EXPECT_GE(region.min_scaled_jacobian, 0.2);
+  }
+  EXPECT_TRUE(r.conforming);
+  EXPECT_EQ(r.quality.gauss_inverted, 0u);
+  EXPECT_LE(r.hausdorff, 0.01 * r.input_summary.bbox_diagonal);  // the interface measured too
+
+  // Region 0 is the shell, region 1 the core: the core's nodes lie within the inner sphere, and
+  // the nodes both use (the interface) on it.
+  std::vector<char> used[2] = {std::vector<char>(mesh.nodes.size(), 0), std::vector<char>(mesh.nodes.size(), 0)};
+  double volume[2] = {0, 0};
+  for (size_t h = 0; h < mesh.hexes.size(); ++h)
+    for (int v : mesh.hexes[h]) used[mesh.region[h]][size_t(v)] = 1;
+  for (int region = 0; region < 2; ++region) {
+    const HexMesh alone = region_submesh(mesh, region);
+    volume[region] = enclosed_volume(quads_to_triangles(alone.nodes, boundary_quads(alone)));
+  }
+  size_t shared = 0;
+  for (size_t v = 0; v < mesh.nodes.size(); ++v) {
+    const double radius = mesh.nodes[v].norm();
+    if (used[1][v]) ASSERT_LT(radius, 0.5 + 1e-9);
+    if (used[0][v] && used[1][v]) {
+      ++shared;
+      EXPECT_GT(radius, 0.49) << "interface node " << v << " off the inner sphere";
+      EXPECT_GE(mesh.boundary_facet[v], 0);
+    }
+  }
+  const std::vector<std::array<int, 4>> interface = interface_quads(mesh);
+  EXPECT_GT(shared, 0u);
+  ASSERT_GT(interface.size(), 0u);
+  // The core's boundary is exactly the interface: its boundary quads are as many, and every
+  // node of them is shared.
+  EXPECT_EQ(boundary_quads(region_submesh(mesh, 1)).size(), interface.size());
+  // The core fills the inner sphere (volume 4/3 pi 0.125 less the facets' sagitta), and the
+  // two regions together the outer one.
+  EXPECT_NEAR(volume[1], 0.125 / (1 - 0.125) * r.input_summary.volume, 0.03 * volume[1]);
+  EXPECT_NEAR(volume[0] + volume[1], r.input_summary.volume / (1 - 0.125), 0.02 * (volume[0] + volume[1]));
 }
 
 namespace {
