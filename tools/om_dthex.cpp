@@ -5,6 +5,7 @@
 // failed; 1 internal error; 128 + N when stopped by signal N (130 for Ctrl-C).
 #include <dthex/hexes/mesh_sets.h>
 #include <dthex/io/atomic_file.h>
+#include <dthex/io/read_surface.h>
 #include <dthex/io/write_hex_mesh.h>
 #include <dthex/io/write_surface.h>
 #include <dthex/pipeline/pipeline.h>
@@ -168,6 +169,8 @@ int run(CommandLine& cl) {
   dthex::HexFields fields{result.quality.shape, result.quality.scaled_jacobian};
   dthex::AtomicWriteGroup outputs;  // all outputs appear together, or none does
   dthex::MeshSets sets = dthex::find_mesh_sets(result.hexes, result.input);
+  const dthex::SurfaceNames names = dthex::read_surface_names(cl.input);  // OBJ o/g names the parts
+  dthex::name_parts_by_input(sets, result.hexes, names.surface, names.triangle_name, names.names);
   dthex::add_user_sets(sets, result.hexes, cl.user_sets);  // an empty set is an error, before any file
   dthex::write_hex_mesh(result.hexes, cl.output, fields, &sets, cl.write);
   if (!cl.coarse_surface.empty()) dthex::write_surface(result.coarse, cl.coarse_surface);

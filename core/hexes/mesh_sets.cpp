@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -417,6 +418,59 @@ bool is_generated_name(const std::string& name) {
 }
 
 }  // namespace
+
+size_t name_parts_by_input(MeshSets& sets, const HexMesh& mesh, const TriSurface& named,
+                           const std::vector<int>& triangle_name, const std::vector<std::string>& names) {
+  if (names.empty() || named.triangles.empty() || triangle_name.size() != named.triangles.size()) return 0;
+  const TriangleBvh tree(named);
+  // The votes of each part's boundary faces.
+  std::vector<std::string> chosen(sets.parts.size());
+  for (size_t p = 0; p < sets.parts.size(); ++p) {
+    const std::string boundary = sets.parts[p].name + "_boundary";
+    const auto set = std::find_if(sets.surfaces.begin(), sets.surfaces.end(),
+                                  [&](const FaceSet& f) { return f.name == boundary; });
+    if (set == sets.surfaces.end()) continue;
+    std::map<int, size_t> votes;
+    int hint = -1;
+    for (const HexFace& f : set->faces) {
+      Vec3 centre = Vec3::Zero();
+      for (int c : kHexSideCornersOutward[size_t(f.side)]) centre += mesh.nodes[size_t(mesh.hexes[size_t(f.hex)][size_t(c)])] / 4.0;
+      const TriangleBvh::ClosestPoint cp = hint < 0 ? tree.closest_point(centre) : tree.closest_point_near(centre, hint);
+      hint = cp.triangle;
+      if (cp.triangle >= 0 && triangle_name[size_t(cp.triangle)] >= 0) ++votes[triangle_name[size_t(cp.triangle)]];
+    }
+    size_t best = 0;
+    for (const auto& [name, count] : votes)
+      if (count > best) best = count, chosen[p] = names[size_t(name)];
+    // A valid set name, and none of the generated kind.
+    for (char& c : chosen[p])
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') c = '_';
+    if (!chosen[p].empty() && !std::isalpha(static_cast<unsigned char>(chosen[p][0]))) chosen[p] = "part_" + chosen[p];
+    if (is_generated_name(chosen[p])) chosen[p].clear();
+  }
+  // Parts come largest first, so the first to take a name keeps it.
+  std::map<std::string, int> taken;
+  std::map<std::string, std::string> renamed;  // bodyN -> its new name
+  for (size_t p = 0; p < sets.parts.size(); ++p) {
+    if (chosen[p].empty()) continue;
+    const int n = ++taken[chosen[p]];
+    renamed[sets.parts[p].name] = n == 1 ? chosen[p] : chosen[p] + "_" + std::to_string(n);
+  }
+  auto new_name = [&](const std::string& part) {
+    const auto it = renamed.find(part);
+    return it == renamed.end() ? part : it->second;
+  };
+  static const std::regex boundary(R"((body\d+)_boundary)"), interface(R"((body\d+)_(body\d+)_interface)");
+  auto rename_set = [&](std::string& name) {
+    std::smatch m;
+    if (std::regex_match(name, m, boundary)) name = new_name(m[1]) + "_boundary";
+    else if (std::regex_match(name, m, interface)) name = new_name(m[1]) + "_" + new_name(m[2]) + "_interface";
+  };
+  for (HexSet& part : sets.parts) part.name = new_name(part.name);
+  for (FaceSet& f : sets.surfaces) rename_set(f.name);
+  for (NodeSet& n : sets.node_sets) rename_set(n.name);
+  return renamed.size();
+}
 
 UserSetSpec parse_user_set(const std::string& text) {
   const std::string forms = "expected NAME=box:X0,Y0,Z0,X1,Y1,Z1 or NAME=plane:PX,PY,PZ,NX,NY,NZ,DISTANCE";

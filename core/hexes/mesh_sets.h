@@ -90,6 +90,18 @@ MeshSets find_mesh_sets(const HexMesh& mesh, const MeshSetsOptions& options = {}
 //! times the few regions that may try each triangle.
 MeshSets find_mesh_sets(const HexMesh& mesh, const TriSurface& input, const MeshSetsOptions& options = {});
 
+//! Gives each part the name its input gives it (read_surface_names(): an OBJ file's `o` and `g`
+//! names) in place of bodyN, renaming its boundary and interface sets with it. A part takes the
+//! name most of its boundary faces are nearest to (each face's centre against `named`'s
+//! triangles, `triangle_name` per triangle, -1 for none); a name is made a valid set name
+//! (characters other than letters, digits and underscores become underscores, and one that does
+//! not start with a letter gets "part_" before it), and when several parts take one name the
+//! largest keeps it and the others get _2, _3, ... A part that takes no name, or a name of the
+//! kind find_mesh_sets() makes (bodyN, patchN, ...), keeps its bodyN. Returns how many parts
+//! were renamed. Preconditions: `sets` made by find_mesh_sets() for `mesh`.
+size_t name_parts_by_input(MeshSets& sets, const HexMesh& mesh, const TriSurface& named,
+                           const std::vector<int>& triangle_name, const std::vector<std::string>& names);
+
 //! A set the user names on the command line (--set NAME=box:... or NAME=plane:...): the boundary
 //! faces all of whose corners lie in an axis-aligned box, or within a distance of a plane.
 struct UserSetSpec {

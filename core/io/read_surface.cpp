@@ -287,8 +287,12 @@ TriSurface read_off(const std::string& path, std::string_view text) {
 
 // ---------------------------------------------------------------------------------------- OBJ
 
-TriSurface read_obj(const std::string& path, std::string_view text) {
+// `names` and `triangle_name`, when given, receive the names of the file's `o` and `g` lines
+// and, per triangle, the index of the latest one before its face (-1 before any).
+TriSurface read_obj_with_names(const std::string& path, std::string_view text, std::vector<std::string>* names,
+                               std::vector<int>* triangle_name) {
   LineReader lines(text, '#');
+  int current_name = -1;
   std::string_view line;
   std::vector<std::string_view> tokens;
   std::vector<int64_t> corners;
@@ -317,11 +321,26 @@ TriSurface read_obj(const std::string& path, std::string_view text) {
       }
       builder.add_polygon(corners, face, count,
                           " among the vertices defined before it" + at_line(lines.line()));
+      if (triangle_name) triangle_name->resize(builder.surface.triangles.size(), current_name);
       ++face;
+    } else if ((tokens[0] == "o" || tokens[0] == "g") && names) {
+      // An object's name is the rest of its line; a group line with several names puts the
+      // faces in each, and the first is taken.
+      current_name = -1;
+      if (tokens.size() >= 2) {
+        std::string name(tokens[1]);
+        if (tokens[0] == "o")
+          for (size_t k = 2; k < tokens.size(); ++k) name += " " + std::string(tokens[k]);
+        const auto known = std::find(names->begin(), names->end(), name);
+        current_name = int(known - names->begin());
+        if (known == names->end()) names->push_back(name);
+      }
     }
   }
   return builder.finish();
 }
+
+TriSurface read_obj(const std::string& path, std::string_view text) { return read_obj_with_names(path, text, nullptr, nullptr); }
 
 // ---------------------------------------------------------------------------------------- STL
 
@@ -705,6 +724,15 @@ TriSurface read_surface(const std::string& path) {
   TriSurface surface = reader(path, data);
   check_triangle_budget(path, surface.triangles.size());  // OBJ and ASCII STL announce no count
   return surface;
+}
+
+SurfaceNames read_surface_names(const std::string& path) {
+  SurfaceNames out;
+  if (to_lower(std::filesystem::path(path).extension().string()) != ".obj") return out;
+  const std::string data = load_file(path);
+  out.surface = read_obj_with_names(path, data, &out.names, &out.triangle_name);
+  if (out.names.empty()) out = SurfaceNames();
+  return out;
 }
 
 TriSurface read_surface_from_memory(std::string_view bytes, const std::string& extension, const std::string& name) {

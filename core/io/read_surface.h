@@ -9,6 +9,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace dthex {
 
@@ -28,7 +29,8 @@ namespace dthex {
 //! - OFF: '#' starts a comment; COFF/NOFF/CNOFF headers are accepted (extra values on a
 //!   vertex or face line, such as colours, are ignored); counts may follow the keyword
 //!   on the same line.
-//! - OBJ: only 'v' and 'f' lines matter; corners may be v, v/vt, v/vt/vn or v//vn;
+//! - OBJ: only 'v' and 'f' lines matter for the surface ('o' and 'g' name parts, see
+//!   read_surface_names()); corners may be v, v/vt, v/vt/vn or v//vn;
 //!   negative indices count back from the last vertex read so far.
 //! - STL: binary exactly when the size is 84 + 50 n for the count n stored at byte 80,
 //!   even if the header starts with "solid". Exactly equal vertex positions are merged
@@ -38,6 +40,18 @@ namespace dthex {
 //! - PLY: element "vertex" with x, y, z of any scalar type, element "face" with a list
 //!   property vertex_indices (or vertex_index); other properties and elements are skipped.
 TriSurface read_surface(const std::string& path);
+
+//! The names a surface file gives its parts: an OBJ file's `o NAME` lines (the rest of the
+//! line) and `g NAME` lines (a group line's first name), each face in the latest one before it. `surface` is the file as
+//! read_surface() reads it, before any repair, and `triangle_name` gives per triangle of it the
+//! index into `names`, -1 for faces before the first name. All empty for other formats and for an
+//! OBJ file with no names. Throws as read_surface() does.
+struct SurfaceNames {
+  std::vector<std::string> names;
+  TriSurface surface;
+  std::vector<int> triangle_name;
+};
+SurfaceNames read_surface_names(const std::string& path);
 
 //! Parses bytes already in memory as the format of extension (".off", ".obj", ".stl",
 //! ".ply", case-insensitive), with the same checks and messages as read_surface();

@@ -207,6 +207,44 @@ TEST(MeshSets, MaterialRegionsArePartsWithTheirInterfaceBetween) {
   EXPECT_EQ(surface(s, "floor").faces.size(), 6u);
 }
 
+//! Parts named by the input: three blocks, the large one near triangles named "Left bone", the two
+//! small ones near "2nd" and none; the names become valid set names, the largest part keeps a
+//! shared one, and the boundary sets follow their part's name.
+TEST(MeshSets, PartsTakeTheNamesOfTheInputTrianglesNearestThem) {
+  HexMesh m = hex_block(Vec3(0, 0, 0), Vec3(2, 2, 2), 2, 2, 2);
+  for (const Vec3& corner : {Vec3(10, 0, 0), Vec3(20, 0, 0), Vec3(30, 0, 0)}) {
+    const HexMesh small = hex_block(corner, corner + Vec3(1, 1, 1), 1, 1, 1);
+    const int offset = int(m.nodes.size());
+    m.nodes.insert(m.nodes.end(), small.nodes.begin(), small.nodes.end());
+    for (auto h : small.hexes) {
+      for (int& n : h) n += offset;
+      m.hexes.push_back(h);
+    }
+  }
+  MeshSets s = find_mesh_sets(m);
+  ASSERT_EQ(s.parts.size(), 4u);
+  // One named triangle at each block's centre height: nearest to all of that block's faces.
+  TriSurface named;
+  std::vector<int> triangle_name;
+  for (const auto& [x, name] : {std::pair{1.0, 0}, std::pair{10.5, 1}, std::pair{20.5, 1}, std::pair{30.5, -1}}) {
+    const int base = int(named.points.size());
+    named.points.push_back(Vec3(x - 0.1, 0.5, 0.5));
+    named.points.push_back(Vec3(x + 0.1, 0.5, 0.5));
+    named.points.push_back(Vec3(x, 0.6, 0.5));
+    named.triangles.push_back({base, base + 1, base + 2});
+    triangle_name.push_back(name);
+  }
+  EXPECT_EQ(name_parts_by_input(s, m, named, triangle_name, {"Left bone", "2nd"}), 3u);
+  EXPECT_EQ(s.parts[0].name, "Left_bone");
+  EXPECT_EQ(s.parts[1].name, "part_2nd");
+  EXPECT_EQ(s.parts[2].name, "part_2nd_2");
+  EXPECT_EQ(s.parts[3].name, "body4");
+  EXPECT_EQ(surface(s, "Left_bone_boundary").faces.size(), 24u);
+  EXPECT_EQ(surface(s, "part_2nd_2_boundary").faces.size(), 6u);
+  EXPECT_EQ(surface(s, "body4_boundary").faces.size(), 6u);
+  for (size_t i = 0; i < s.surfaces.size(); ++i) EXPECT_EQ(s.node_sets[i].name, s.surfaces[i].name);
+}
+
 TEST(MeshSets, UserSetsByBoxAndPlaneSelectWholeBoundaryFaces) {
   const HexMesh m = hex_block(Vec3(0, 0, 0), Vec3(3, 2, 1), 3, 2, 1);
   MeshSets s = find_mesh_sets(m);

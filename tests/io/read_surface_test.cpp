@@ -184,6 +184,28 @@ TEST(ReadSurface, PolygonsAreFanTriangulated) {
   EXPECT_EQ(dthex::read_surface(obj).triangles, (std::vector<std::array<int, 3>>{{0, 1, 2}, {0, 2, 3}}));
 }
 
+//! An OBJ file's o and g lines name its faces' parts: each face takes the latest name (an
+//! object line's whole name, a group line's first), faces before any take none (-1); a polygon's triangles share its name. Other
+//! formats, and an OBJ with no names, give none.
+TEST(ReadSurface, ObjNamesTheTrianglesOfEachObjectAndGroup) {
+  const std::string obj = write_file("named.obj",
+                                     "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                                     "f 1 2 3\n"
+                                     "o femur\nf 1 3 4\nf 1 2 3 4\n"
+                                     "g tibia shaft\nf 2 3 4\n"
+                                     "o femur\nf 1 2 4\n"
+                                     "o left patella\nf 1 2 3\n");
+  const dthex::SurfaceNames named = dthex::read_surface_names(obj);
+  EXPECT_EQ(named.names, (std::vector<std::string>{"femur", "tibia", "left patella"}));
+  EXPECT_EQ(named.triangle_name, (std::vector<int>{-1, 0, 0, 0, 1, 0, 2}));
+  EXPECT_EQ(named.surface.triangles.size(), dthex::read_surface(obj).triangles.size());
+  const std::string plain = write_file("plain.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n");
+  EXPECT_TRUE(dthex::read_surface_names(plain).names.empty());
+  EXPECT_TRUE(dthex::read_surface_names(plain).triangle_name.empty());
+  const std::string off = write_file("named.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n1 1 0\n3 0 1 2\n");
+  EXPECT_TRUE(dthex::read_surface_names(off).names.empty());
+}
+
 TEST(ReadSurface, FileLevelErrors) {
   expect_read_error((folder() / "missing.off").string(), "no such file");
   fs::create_directories(folder() / "dir.off");
