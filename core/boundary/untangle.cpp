@@ -162,11 +162,26 @@ class Untangler {
     // fold in a few rounds, where the fixed boundary would spend all its rounds on hopeless
     // parts and still leave them inverted.
     give_up_hopeless_ = options_.slide_boundary;
+    watch_stall_ = true;
+    fewest_inverted_ = inverted_count();
+    last_fall_ = Clock::now();
     repair(kInvertedBelow, false, fixed_rounds);
     give_up_hopeless_ = false;
-    for (int phase = 0; phase < options_.max_boundary_phases && options_.slide_boundary && !report.time_limit_reached;
-         ++phase)
+    // The sliding passes get their own stall window: they undo what the fixed boundary
+    // cannot. A sliding pass that removes no inverted hex stalls the repair: the next would
+    // start from the same folds.
+    if (options_.slide_boundary) stalled_ = false, last_fall_ = Clock::now();
+    size_t before_pass = inverted_count();
+    for (int phase = 0; phase < options_.max_boundary_phases && options_.slide_boundary && !report.time_limit_reached &&
+                        !stalled_;
+         ++phase) {
       if (!repair(kInvertedBelow, true, options_.max_rounds)) break;
+      const size_t after_pass = inverted_count();
+      if (after_pass > 0 && after_pass >= before_pass && options_.stall_seconds > 0) stalled_ = true;
+      before_pass = after_pass;
+    }
+    watch_stall_ = false;
+    const double stalled_after = std::chrono::duration<double>(Clock::now() - start).count();
     // 2. Shape where it is poor (a barrier once nothing is inverted). Each connected part of
     // the region is its own problem: one near-flat frame then limits the steps of its own
     // part only, not of the whole mesh, and a part stops when it has converged.
@@ -181,9 +196,12 @@ class Untangler {
       solve_parts(connected_parts(movable, size_t(options_.smoothing_part_nodes)), options_.smoothing_rounds,
                   options_.smoothing_iterations, report);
     }
-    // 3. What is still below the target, locally, the boundary sliding where it must.
-    if (!report.time_limit_reached) repair(options_.target_scaled_jacobian, false, fixed_rounds);
-    for (int phase = 0; phase < options_.max_boundary_phases && options_.slide_boundary && !report.time_limit_reached;
+    // 3. What is still below the target, locally, the boundary sliding where it must (not
+    // when that is only the inverted hexes whose repair stalled).
+    const bool only_stalled = stalled_ && options_.target_scaled_jacobian <= kInvertedBelow;
+    if (!report.time_limit_reached && !only_stalled) repair(options_.target_scaled_jacobian, false, fixed_rounds);
+    for (int phase = 0;
+         phase < options_.max_boundary_phases && options_.slide_boundary && !report.time_limit_reached && !only_stalled;
          ++phase) {
       const double before = min_scaled_jacobian();
       if (!repair(options_.target_scaled_jacobian, true, options_.max_rounds)) break;
@@ -198,6 +216,9 @@ class Untangler {
       report.undone = true;
     }
     report.inverted_after = q.inverted;
+    // Said only where the stall left inverted hexes (not where it stopped at a few frames just
+    // above zero, which the smoother lifts).
+    if (stalled_ && q.inverted > 0) report.stalled = true, report.stalled_after_seconds = stalled_after;
     report.min_scaled_jacobian = q.scaled_jacobian_stats.min;
     report.avg_shape = q.shape_stats.avg;
     report.min_shape = q.shape_stats.min;
@@ -288,7 +309,7 @@ class Untangler {
         for (int h : node_hexes_[v]) hexes.push_back(h);
       by_colour[colouring.add(hexes.data(), hexes.data() + hexes.size())].push_back(p);
     }
-    for (size_t colour = 0; colour <= kColours && !report.time_limit_reached; ++colour) {
+    for (size_t colour = 0; colour <= kColours && !report.time_limit_reached && !stalled_; ++colour) {
       const auto& batch = by_colour[colour];
       // Each part in the last list may share hexes with any other: one at a time.
       const bool parallel = colour < kColours && batch.size() > 1;
@@ -299,7 +320,7 @@ class Untangler {
         Phase ph;
 #pragma omp for schedule(dynamic, 1)
         for (long i = 0; i < long(batch.size()); ++i) {
-          if (Clock::now() > deadline_) {
+          if (Clock::now() > phase_deadline()) {
             timed_out = true;
             continue;
           }
@@ -309,8 +330,29 @@ class Untangler {
         rounds_done += ph.rounds;
       }
       report.rounds += rounds_done;
-      if (timed_out) report.time_limit_reached = true;
+      if (watch_stall_) {  // the stall clock restarts whenever the inverted count falls
+        const size_t inverted = inverted_count();
+        if (inverted < fewest_inverted_) fewest_inverted_ = inverted, last_fall_ = Clock::now();
+      }
+      // Stopped by the stall bound, not by the time limit.
+      if (timed_out && Clock::now() < deadline_) stalled_ = true;
+      else if (timed_out) report.time_limit_reached = true;
     }
+  }
+
+  //! Hexes counted as inverted (the repair's seeds).
+  size_t inverted_count() const {
+    return size_t(std::count_if(scaled_jacobian_.begin(), scaled_jacobian_.end(),
+                                [](double sj) { return sj < kInvertedBelow; }));
+  }
+
+  //! When a problem solved now must stop: the time limit, or while the inverted hexes are
+  //! repaired, stall_seconds after their count last fell.
+  Clock::time_point phase_deadline() const {
+    if (!watch_stall_ || !(options_.stall_seconds > 0)) return deadline_;
+    const auto stall = last_fall_ + std::chrono::duration_cast<Clock::duration>(
+                                        std::chrono::duration<double>(options_.stall_seconds));
+    return std::min(deadline_, stall);
   }
 
   // One epsilon-continuation run over `movable` (sorted node ids): interior nodes free,
@@ -387,7 +429,7 @@ class Untangler {
       const double detmin_before = detmin;
       LbfgsOptions lbfgs;
       lbfgs.max_iterations = max_iterations;
-      lbfgs.deadline = deadline_;
+      lbfgs.deadline = phase_deadline();
       lbfgs.max_steepest_step = 0.1;  // a tenth of the local edge length: variables are scaled by it
       const LbfgsReport minimized =
           start_known ? minimize_lbfgs(z, energy, lbfgs, start_energy, grad) : minimize_lbfgs(z, energy, lbfgs);
@@ -585,6 +627,12 @@ class Untangler {
   std::vector<int> var_offset_;          //!< per node: first variable, -1 if it does not move
   std::vector<Vec3> pos_;
   bool give_up_hopeless_ = false;  //!< see run(): set only between parallel sections
+  //! The stall bound (UntangleOptions::stall_seconds), written only between parallel
+  //! sections: whether it is watched, the fewest inverted hexes so far and when the count
+  //! last fell, and whether it stopped the repair.
+  bool watch_stall_ = false, stalled_ = false;
+  size_t fewest_inverted_ = 0;
+  Clock::time_point last_fall_;
   std::vector<Vec3> base_, tangent1_, tangent2_;
 };
 

@@ -114,6 +114,35 @@ TEST(Untangle, HopelessRepairNeverEndsWithMoreInvertedHexes) {
   }
 }
 
+// A repair that cannot succeed gives way: with the thrown top-face nodes held where they
+// are, no pass can undo the fold, so the first sliding pass that removes no inverted hex ends
+// the repair (UntangleReport::stalled), where without the stall bound every pass and the
+// repair towards the target run again on the same folds. The result is no worse for it.
+TEST(Untangle, RepairThatStopsFallingStallsAndSaysSo) {
+  const TriSurface cube = box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), 4);
+  HexMesh thrown = hex_block(Vec3(0, 0, 0), Vec3(1, 1, 1), 4, 4, 4);
+  label_boundary(thrown, box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), 1));
+  for (int j = 1; j <= 3; ++j) thrown.nodes[size_t((4 * 5 + j) * 5 + 1)] = Vec3(0.95, 0.25 * j + 0.045, 1.0);
+  const TriangleBvh bvh(cube);
+  UntangleOptions stalling;
+  stalling.target_scaled_jacobian = 0;  // as the pipeline runs it
+  stalling.held = [](size_t, const Vec3&) { return true; };
+  UntangleOptions unbounded = stalling;
+  unbounded.stall_seconds = 0;
+  HexMesh a = thrown, b = thrown;
+  const UntangleReport stalled = untangle_and_smooth(a, bvh, stalling);
+  const UntangleReport endless = untangle_and_smooth(b, bvh, unbounded);
+  std::printf("held fold: %zu -> %zu inverted in %d rounds (stall bound), %zu in %d rounds (none)\n",
+              stalled.inverted_before, stalled.inverted_after, stalled.rounds, endless.inverted_after, endless.rounds);
+  ASSERT_GT(endless.inverted_after, 0u) << "the fold must be beyond repair for the test to bite";
+  EXPECT_TRUE(stalled.stalled);
+  EXPECT_FALSE(endless.stalled);
+  EXPECT_GT(stalled.stalled_after_seconds, 0.0);
+  EXPECT_LT(stalled.rounds, endless.rounds);
+  EXPECT_LE(stalled.inverted_after, stalled.inverted_before);
+  EXPECT_EQ(stalled.inverted_after, endless.inverted_after);
+}
+
 // The repairs and the shape pass work where the mesh is poor, not everywhere: in a block
 // that is smoothly distorted throughout (every hex fine, none a cube), one interior node
 // pushed through a face is repaired without moving any node 8 or more hex layers away.
