@@ -18,6 +18,7 @@
 #include <dthex/surface/remesh_isotropic.h>
 #include <dthex/surface/surface_distance.h>
 #include <dthex/surface/verify_surface.h>
+#include <dthex/surface/wall_thickness.h>
 #include <dthex/tet_edits/collapse_interior_vertices.h>
 #include <dthex/tet_edits/flip_three_tet_edges.h>
 #include <dthex/tet_edits/flip_worst_tets.h>
@@ -129,21 +130,24 @@ SurfaceSummary verify_coarse_surface(TriSurface& coarse, const std::string& name
 
 // With projection, TetGen's tets are changed so that THex's hexes can all be valid once
 // the boundary is on the smooth input surface.
-void improve_tets_for_projection(TetMesh& tets, const StageRunner& stage) {
+// PipelineOptions::edit_boundary_tets off (a membrane) leaves out the edits of tets between
+// boundary vertices.
+void improve_tets_for_projection(TetMesh& tets, const PipelineOptions& options, const StageRunner& stage) {
   // Interior edges and faces between boundary vertices would give hexes that cannot all be
   // valid. First the clusters of such edges that one cone point replaces, then flips, which
   // add no point, and midpoint splits only where no flip is allowed.
-  stage("flip boundary edges", [&] {
-    BoundaryEdgesReport report;
-    report.clusters_coned = cone_edge_clusters(tets);
-    report.removed = remove_boundary_edges(tets);
-    return StageReport(report);
-  });
+  if (options.edit_boundary_tets)
+    stage("flip boundary edges", [&] {
+      BoundaryEdgesReport report;
+      report.clusters_coned = cone_edge_clusters(tets);
+      report.removed = remove_boundary_edges(tets);
+      return StageReport(report);
+    });
   // Then fewer tets (3-2 flips, then fewer interior points) where that does not lower the
   // local worst tet shape.
   stage("flip 3-2", [&] { return StageReport(flip_three_tet_edges(tets)); });
   stage("merge inner points", [&] { return StageReport(collapse_interior_vertices(tets)); });
-  stage("split surface tets", [&] { return StageReport(split_surface_tets(tets)); });
+  if (options.edit_boundary_tets) stage("split surface tets", [&] { return StageReport(split_surface_tets(tets)); });
   // Then the worst tets left (a boundary face with a point close above it, on thin walls):
   // first other connectivity around them, then the interior points moved.
   stage("flip worst tets", [&] { return StageReport(flip_worst_tets(tets)); });
@@ -154,11 +158,11 @@ void improve_tets_for_projection(TetMesh& tets, const StageRunner& stage) {
 
 // improve_tets_for_projection on each material region alone (tet_regions.h: its stages take a
 // face with two tets for interior, an interface face too), the stage names then saying which.
-void improve_tets_of_each_region(TetMesh& tets, const StageRunner& stage) {
-  if (tets.tet_region.empty()) return improve_tets_for_projection(tets, stage);
+void improve_tets_of_each_region(TetMesh& tets, const PipelineOptions& options, const StageRunner& stage) {
+  if (tets.tet_region.empty()) return improve_tets_for_projection(tets, options, stage);
   std::vector<TetMesh> regions = split_tet_regions(tets);
   for (size_t r = 0; r < regions.size(); ++r)
-    improve_tets_for_projection(regions[r], [&](const std::string& name, const std::function<StageReport()>& step) {
+    improve_tets_for_projection(regions[r], options, [&](const std::string& name, const std::function<StageReport()>& step) {
       stage(name + " (region " + std::to_string(r + 1) + ")", step);
     });
   tets = merge_tet_regions(regions);
@@ -174,7 +178,7 @@ TetCounts predicted_tet_counts(const TriSurface& input, const PipelineOptions& o
   verify_coarse_surface(coarse, "coarse surface");
   TetMesh tets = tetrahedralize(coarse, tetgen_options_for(options));
   const StageRunner silently = [](const std::string&, const std::function<StageReport()>& step) { step(); };
-  if (options.project) improve_tets_of_each_region(tets, silently);
+  if (options.project) improve_tets_of_each_region(tets, options, silently);
   return count_tet_entities(tets);
 }
 
@@ -479,7 +483,7 @@ TetMesh mesh_with_tets(Meshing& m) {
     return TetrahedralizeReport{result.tets};
   });
   if (!m.options.thex_only && m.options.project) {
-    improve_tets_of_each_region(tets, [&](const std::string& name, const std::function<StageReport()>& step) {
+    improve_tets_of_each_region(tets, m.options, [&](const std::string& name, const std::function<StageReport()>& step) {
       m.stage(name, [&] {
         StageReport report = step();
         result.tets = tets.tets.size();
@@ -784,6 +788,55 @@ void retry_sized_by_thickness(PipelineResult& result, size_t shared_stages, cons
   result.thin_wall_vertices = report.thin_wall_vertices;
 }
 
+// Walls thinner than their curvature size, predicted before the first mesh (docs/METHOD.md,
+// Thin walls). Where at least kThinWallShare of the vertices lie on walls
+// kThinWallSizePerThickness times thinner than their curvature size, the curvature-sized mesh
+// is poor and the retry keeps the thickness-sized one, so that one is made from the start.
+// Where kMembraneShare lie on walls kMembraneSizePerThickness times thinner, the input is a
+// membrane: the curvature-sized try cannot succeed, and sized at one thickness and diced as
+// usual it has several times the nodes of THex. It is sized at kMembraneThicknessRatio
+// thicknesses with one hex layer per THex layer (dice 1), so the hexes across the wall are
+// THex's two per tet layer, and no coarse edge shorter than the wall is thick (unless the
+// input's mean edge is longer): where the input's triangles are long and thin, as around a
+// rounded rim, the coarsening can then collapse them, and the tets there are not slivers.
+constexpr double kThinWallSizePerThickness = 2;
+constexpr double kThinWallShare = 0.025;
+constexpr double kMembraneSizePerThickness = 4;
+constexpr double kMembraneShare = 0.25;
+constexpr double kMembraneThicknessRatio = 1.25;
+
+// The mean edge length of `surface` (the coarsening's automatic h_min).
+double mean_edge_length(const TriSurface& surface) {
+  double sum = 0;
+  for (const auto& t : surface.triangles)
+    for (int i = 0; i < 3; ++i) sum += (surface.points[size_t(t[size_t(i)])] - surface.points[size_t(t[size_t((i + 1) % 3)])]).norm();
+  return surface.triangles.empty() ? 0 : sum / double(3 * surface.triangles.size());
+}
+
+// The ball a membrane's thickness is searched from, as a fraction of the bounding-box diagonal.
+constexpr double kMembraneSearchRadius = 0.05;
+
+ThinWallPredictionReport predict_thin_walls(const TriSurface& surface, const TriangleBvh& bvh,
+                                            const PipelineOptions& options, double eps, double bbox_diagonal) {
+  ThinWallPredictionReport report;
+  report.vertices = surface.points.size();
+  CoarsenOptions coarsen_options = coarsen_options_for(options, eps);
+  coarsen_options.max_size_per_thickness = kThinWallSizePerThickness;
+  report.thinner_twice = count_thin_wall_vertices(surface, coarsen_options);
+  if (double(report.thinner_twice) < kThinWallShare * double(report.vertices)) return report;
+  coarsen_options.max_size_per_thickness = kMembraneSizePerThickness;
+  report.thinner_four_times = count_thin_wall_vertices(surface, coarsen_options);
+  report.membrane = double(report.thinner_four_times) >= kMembraneShare * double(report.vertices);
+  report.thickness_ratio = report.membrane ? kMembraneThicknessRatio : 1.0;
+  if (report.membrane) {
+    report.wall_thickness = median_wall_thickness(surface, bvh, kMembraneSearchRadius * bbox_diagonal);
+    report.h_min = options.h_min > 0 ? options.h_min : std::max(mean_edge_length(surface), report.wall_thickness);
+  }
+  // The dicing is ours to choose unless it was given (PipelineOptions::choose_dice).
+  report.dice = report.membrane && options.choose_dice ? 1 : options.dice;
+  return report;
+}
+
 // PipelineOptions::strict: an inverted hex or a boundary face inside the mesh is a failure.
 void check_strict(const PipelineResult& result, const PipelineOptions& options) {
   if (!options.strict) return;
@@ -822,9 +875,20 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
   const std::unique_ptr<TriangleBvh> remeshed_bvh =
       result.remeshed.triangles.empty() ? nullptr : std::make_unique<TriangleBvh>(result.remeshed);
   const TriangleBvh& coarsening_bvh = remeshed_bvh ? *remeshed_bvh : input_bvh;
+  // Thin walls predicted: the first mesh is sized by thickness, and is the only one.
+  PipelineOptions first = options;
+  if (thickness_retry_possible(options) && options.predict_thin_walls) {
+    const ThinWallPredictionReport predicted = timed_stage(result, progress, "predict thin walls", [&] {
+      return predict_thin_walls(result.coarsening_input(), coarsening_bvh, options, options.eps,
+                                result.input_summary.bbox_diagonal);
+    });
+    if (predicted.thickness_ratio > 0) first.thickness_ratio = predicted.thickness_ratio, first.dice = predicted.dice;
+    if (predicted.membrane) first.edit_boundary_tets = false, first.h_min = predicted.h_min;
+  }
   const size_t shared_stages = result.stages.size();
-  mesh_verified_input(result, input_bvh, coarsening_bvh, options, progress);
-  if (thickness_retry_possible(options) && poor_hexes(result) && thin_walls_likely_cause(result))
+  mesh_verified_input(result, input_bvh, coarsening_bvh, first, progress);
+  if (first.thickness_ratio <= 0 && thickness_retry_possible(options) && poor_hexes(result) &&
+      thin_walls_likely_cause(result))
     retry_sized_by_thickness(result, shared_stages, input_bvh, coarsening_bvh, options, progress);
   result.total_seconds = seconds_since(start);
   check_strict(result, options);

@@ -37,7 +37,8 @@ struct PipelineOptions {
   //! With target_nodes: when `dice` cannot reach the target (the node range it gives from eps
   //! 0.9 down to 0.001 misses it), the nearest dicing that can is used instead (1 for a budget
   //! below it, 3, 4, ... above). Off, such a target is an InputError. The command line turns
-  //! it off when --dice is given.
+  //! it off when --dice is given. Also lets a predicted membrane be diced once
+  //! (predict_thin_walls).
   bool choose_dice = true;
   double h_min = 0;                 //!< smallest coarse edge size, input units; 0 = automatic
   double h_max = 0;                 //!< largest coarse edge, input units; 0 = automatic
@@ -51,6 +52,18 @@ struct PipelineOptions {
   //! (conforming first, then fewer inverted hexes, then the higher minimum scaled Jacobian).
   //! Not with target_nodes (the second mesh would miss the budget).
   bool thickness_retry = true;
+  //! With thickness_retry: before the first mesh, predict thin walls from the wall thickness
+  //! (stage "predict thin walls"). Where they are likely to be the cause of poor hexes the
+  //! first mesh is sized by thickness and no curvature-sized mesh is made; a membrane (most of
+  //! the input on walls several times thinner than their curvature size) is also diced once
+  //! and gets no edge shorter than its wall is thick (docs/METHOD.md, Thin walls). Off, the
+  //! curvature-sized mesh always comes first.
+  bool predict_thin_walls = true;
+  //! With projection, the tets between boundary vertices are edited before THex (stages "flip
+  //! boundary edges" and "split surface tets"): their hexes could not all be valid once
+  //! projected. Turned off for a membrane (thickness_retry's prediction), where every tet
+  //! spans the wall and the edits only make them flatter and more numerous.
+  bool edit_boundary_tets = true;
   bool thex_only = false;           //!< classic THex of the input: no coarsening, dicing, projection
   bool project = true;              //!< put the boundary back on the input surface
   bool strict = false;              //!< fail (MeshingError) if a hex is inverted at a corner or a Gauss point

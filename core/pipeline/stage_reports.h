@@ -144,12 +144,28 @@ struct MeshTryReport {
   bool conforming = false;
 };
 
+//! Stage "predict thin walls" (PipelineOptions::thickness_retry): before the first mesh, the
+//! vertices of the surface the coarsening starts from on walls several times thinner than
+//! their curvature size, and the sizing chosen from them.
+struct ThinWallPredictionReport {
+  size_t vertices = 0;           //!< of that surface
+  size_t thinner_twice = 0;      //!< on walls at least 2x thinner than their curvature size
+  size_t thinner_four_times = 0;  //!< at least 4x (counted only when thinner_twice makes walls thin)
+  //! The sizing chosen: 0 = curvature alone (the retry may follow), else the wall thickness
+  //! ratio the first mesh is sized with, and its dicing.
+  double thickness_ratio = 0;
+  int dice = 0;
+  bool membrane = false;  //!< the walls are a membrane (thinner_four_times), meshed as one
+  //! A membrane's median wall thickness, and the smallest coarse edge it is given (input units).
+  double wall_thickness = 0, h_min = 0;
+};
+
 using StageReport =
     std::variant<ReadReport, SurfaceSummary, RemeshStageReport, ThinWallReport, ChooseEpsReport, CoarsenStageReport,
                  TetrahedralizeReport, BoundaryEdgesReport, FlipThreeTetEdgesReport, CollapseInteriorVerticesReport,
                  SplitSurfaceTetsReport, FlipWorstTetsReport, RelaxInteriorPointsReport, HexCountReport, ProjectReport,
                  UntangleReport, LocalSmoothReport, RepairWorstStageReport, RepairBoundaryFoldsReport, MeasureReport,
-                 MeshTryReport>;
+                 MeshTryReport, ThinWallPredictionReport>;
 
 struct StageRecord {
   std::string name;

@@ -93,6 +93,18 @@ std::string short_number(double value) {
   return buffer;
 }
 
+std::string text(const ThinWallPredictionReport& r) {
+  std::ostringstream out;
+  out << r.thinner_twice << " of " << r.vertices << " vertices on walls 2x thinner than their curvature size";
+  if (r.thinner_four_times) out << ", " << r.thinner_four_times << " 4x";
+  if (r.thickness_ratio <= 0) return out.str() + ": sized by curvature";
+  out << ": " << (r.membrane ? "a membrane, " : "") << "sized by wall thickness from the start (--thickness-ratio "
+      << r.thickness_ratio << ", dice " << r.dice;
+  if (r.membrane) out << ", wall " << short_number(r.wall_thickness) << " thick, --hmin " << short_number(r.h_min);
+  out << ")";
+  return out.str();
+}
+
 std::string text(const ChooseEpsReport& r) {
   std::string out = "eps " + std::to_string(r.eps) + " for about " + std::to_string(r.target_nodes) + " nodes, dice " +
                     std::to_string(r.dice);
@@ -177,6 +189,8 @@ std::string text(const UntangleReport& r) {
   std::ostringstream out;
   out << r.inverted_before << " inverted before, " << r.inverted_after << " after";
   if (r.undone) out << " (its result had more, so it was undone)";
+  if (r.stalled)
+    out << "; stopped after " << std::round(r.stalled_after_seconds) << " s: the inverted count had stopped falling";
   return out.str();
 }
 
@@ -259,6 +273,13 @@ json fields(const RemeshStageReport& r) {
 }
 
 json fields(const ThinWallReport& r) { return {{"thin_wall_vertices", r.vertices}}; }
+
+json fields(const ThinWallPredictionReport& r) {
+  return {{"vertices", r.vertices},           {"thinner_twice", r.thinner_twice},
+          {"thinner_four_times", r.thinner_four_times}, {"thickness_ratio", r.thickness_ratio},
+          {"dice", r.dice},                   {"membrane", r.membrane},
+          {"wall_thickness", r.wall_thickness}, {"h_min", r.h_min}};
+}
 
 json fields(const ChooseEpsReport& r) {
   return {{"eps", r.eps},
@@ -359,6 +380,7 @@ json fields(const UntangleReport& r) {
           {"rounds", r.rounds},
           {"seconds", r.seconds},
           {"time_limit_reached", r.time_limit_reached},
+          {"stalled", r.stalled},
           {"undone", r.undone}};
 }
 
@@ -557,7 +579,10 @@ std::string summary_table(const PipelineResult& r, const PipelineOptions& o) {
   const bool poor = r.quality.inverted > 0 || r.quality.below_0_2 > 0;
   if (r.thickness_retry.ran)
     out << "  thin walls: " << describe(r.thickness_retry) << "\n";
-  else if (poor && !o.thex_only && o.thickness_ratio <= 0 &&
+  else if (const auto* predicted = r.stage_report<ThinWallPredictionReport>("predict thin walls");
+           predicted && predicted->thickness_ratio > 0)
+    out << "  thin walls: " << text(*predicted) << "\n";
+  else if (poor && !o.thex_only && o.thickness_ratio <= 0 && r.thickness_ratio_used <= 0 &&
            r.thin_wall_vertices * 20 >= r.coarsening_input().points.size())
     out << "  hint: " << r.thin_wall_vertices << " of " << r.coarsening_input().points.size()
         << " input vertices lie on walls thinner than their coarse size; --thickness-ratio 1 sizes such walls by their\n"

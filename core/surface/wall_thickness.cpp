@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/surface/wall_thickness.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace dthex {
@@ -54,6 +55,18 @@ std::vector<double> inner_wall_radii(const TriSurface& surface, const TriangleBv
     radius[v] = r;
   }
   return radius;
+}
+
+double median_wall_thickness(const TriSurface& surface, const TriangleBvh& bvh, double start_radius,
+                             const WallThicknessOptions& options) {
+  const std::vector<double> start(surface.points.size(), start_radius);
+  std::vector<double> thickness;
+  for (double r : inner_wall_radii(surface, bvh, start, options))
+    if (r < start_radius) thickness.push_back(2 * r);
+  if (thickness.empty()) return 0;
+  const auto middle = thickness.begin() + long(thickness.size() / 2);
+  std::nth_element(thickness.begin(), middle, thickness.end());
+  return *middle;
 }
 
 }  // namespace dthex

@@ -36,4 +36,10 @@ std::vector<double> inner_wall_radii(const TriSurface& surface, const TriangleBv
                                      const std::vector<double>& start_radius,
                                      const WallThicknessOptions& options = {});
 
+//! The wall thickness of a membrane (a surface that is mostly two close sheets): the median
+//! of twice inner_wall_radii over the vertices whose ball, started at `start_radius`, met the
+//! opposite wall; 0 when none did. Walls thicker than 2 x start_radius are not seen.
+double median_wall_thickness(const TriSurface& surface, const TriangleBvh& bvh, double start_radius,
+                             const WallThicknessOptions& options = {});
+
 }  // namespace dthex

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <limits>
 
 using namespace dthex;
@@ -34,6 +35,67 @@ double longest_edge(const TriSurface& s) {
     for (int i = 0; i < 3; ++i)
       longest = std::max(longest, (s.points[size_t(t[size_t(i)])] - s.points[size_t(t[size_t((i + 1) % 3)])]).norm());
   return longest;
+}
+
+// A membrane like a small ear drum: two spherical caps (sphere radius `sphere`, base radius
+// `radius`) `thickness` apart along z, closed by a rounded rim (a half circle of `rim_rings`
+// steps). Each sheet is rings of 6k vertices, k = 1..rings, around a pole, so its triangles
+// are nearly equilateral; the surface is one sequence of rings from the top pole over the
+// rim to the bottom pole, each pair zipped by angle.
+TriSurface membrane_shell(double radius, double thickness, double sphere, int rings, int rim_rings) {
+  TriSurface s;
+  const double sagitta_base = std::sqrt(sphere * sphere - radius * radius);
+  const auto cap_z = [&](double r) { return std::sqrt(sphere * sphere - r * r) - sagitta_base; };
+  std::vector<std::vector<int>> sequence;  // vertex ids of each ring, by increasing angle
+  std::vector<double> phases;
+  const auto add_ring = [&](int count, double phase, const std::function<Vec3(double)>& at) {
+    std::vector<int> ring;
+    for (int i = 0; i < count; ++i) {
+      ring.push_back(int(s.points.size()));
+      s.points.push_back(at(2 * M_PI * (i + phase) / count));
+    }
+    sequence.push_back(ring);
+    phases.push_back(phase);
+  };
+  const auto on_sheet = [&](double r, double z_offset) {
+    return [=](double a) { return Vec3(r * std::cos(a), r * std::sin(a), cap_z(r) + z_offset); };
+  };
+  const double dr = radius / rings, half = thickness / 2;
+  add_ring(1, 0, on_sheet(0, half));
+  for (int k = 1; k <= rings; ++k) add_ring(6 * k, 0.5 * (k % 2), on_sheet(k * dr, half));
+  for (int j = 1; j < rim_rings; ++j) {
+    const double phi = M_PI * j / rim_rings;  // around the rim, from the top sheet down
+    add_ring(6 * rings, 0.5 * ((rings + j) % 2), [=](double a) {
+      const double r = radius + half * std::sin(phi);
+      return Vec3(r * std::cos(a), r * std::sin(a), half * std::cos(phi));
+    });
+  }
+  for (int k = rings; k >= 1; --k) add_ring(6 * k, 0.5 * ((k + rim_rings) % 2), on_sheet(k * dr, -half));
+  add_ring(1, 0, on_sheet(0, -half));
+  for (size_t i = 0; i + 1 < sequence.size(); ++i) {
+    const std::vector<int>&a = sequence[i], &b = sequence[i + 1];
+    const size_t na = a.size(), nb = b.size();
+    // Each ring's vertex j stands at (j + phase) / n of the turn; the strip advances on the
+    // ring whose next vertex comes first, a pole only ever on the other ring.
+    size_t p = 0, q = 0;
+    while ((na > 1 && p < na) || (nb > 1 && q < nb)) {
+      const double next_a = (double(p + 1) + phases[i]) / double(na), next_b = (double(q + 1) + phases[i + 1]) / double(nb);
+      const bool advance_a = na > 1 && p < na && (nb == 1 || q == nb || next_a <= next_b);
+      if (advance_a) {
+        s.triangles.push_back({a[p % na], b[q % nb], a[(p + 1) % na]});
+        ++p;
+      } else {
+        s.triangles.push_back({a[p % na], b[q % nb], b[(q + 1) % nb]});
+        ++q;
+      }
+    }
+  }
+  double volume6 = 0;
+  for (const auto& t : s.triangles)
+    volume6 += s.points[size_t(t[0])].dot(s.points[size_t(t[1])].cross(s.points[size_t(t[2])]));
+  if (volume6 < 0)
+    for (auto& t : s.triangles) std::swap(t[1], t[2]);
+  return s;
 }
 
 }  // namespace
@@ -142,6 +204,9 @@ TEST(WallThickness, DefaultMeshesAThinPlateTwiceAndKeepsTheThicknessSizedMesh) {
   Progress quiet;
   PipelineOptions automatic, by_thickness;
   ASSERT_TRUE(automatic.thickness_retry);  // the default
+  // Predicted, the plate would be sized by thickness from the start (the membrane test
+  // below); here the retry is what is tested.
+  automatic.predict_thin_walls = false;
   by_thickness.thickness_ratio = 1;
   const PipelineResult kept = run_pipeline(plate, automatic, quiet);
   const PipelineResult sized = run_pipeline(plate, by_thickness, quiet);
@@ -170,4 +235,46 @@ TEST(WallThickness, DefaultMeshesAThinPlateTwiceAndKeepsTheThicknessSizedMesh) {
   const PipelineResult thick = run_pipeline(box, automatic, quiet);
   EXPECT_FALSE(thick.thickness_retry.ran) << describe(thick.thickness_retry);
   EXPECT_EQ(thick.thickness_ratio_used, 0.0);
+}
+
+TEST(WallThickness, MembraneIsMeshedOnceSizedByThicknessWithFewNodesAndSoundHexes) {
+  // A small ear-drum-like shell: 2 wide, 0.05 thick (2.5% of its width), caps of radius 2.
+  // Sized by curvature its coarse triangles would be many times wider than the wall is
+  // thick; predicted a membrane, it is meshed once, sized by thickness and diced once, and
+  // must meet the criteria of a thin-walled mesh against THex of the same input. (Wider
+  // against its thickness than the ear drum would be slower; narrower, the rim's finer
+  // sizing, graded inwards, would leave too little of it thin enough to be a membrane.)
+  const std::string path = (dthex_test::fresh_dir("membrane") / "membrane.off").string();
+  const TriSurface shell = membrane_shell(1.0, 0.05, 2.0, 32, 4);
+  write_surface(shell, path);
+  Progress quiet;
+  PipelineOptions automatic, thex_only;
+  thex_only.thex_only = true;
+  const PipelineResult mesh = run_pipeline(path, automatic, quiet);
+  const PipelineResult thex = run_pipeline(path, thex_only, quiet);
+  const double diagonal = mesh.input_summary.bbox_diagonal;
+  std::printf("membrane: %zu nodes (THex %zu), min scaled Jacobian %.3f, %zu inverted, Hausdorff %.3f%%, volume %+.2f%%\n",
+              mesh.hexes.nodes.size(), thex.hexes.nodes.size(), mesh.quality.scaled_jacobian_stats.min,
+              mesh.quality.inverted, 100 * mesh.hausdorff / diagonal,
+              100 * (mesh.hex_volume / mesh.input_summary.volume - 1));
+  const auto* predicted = mesh.stage_report<ThinWallPredictionReport>("predict thin walls");
+  ASSERT_NE(predicted, nullptr);
+  EXPECT_TRUE(predicted->membrane) << describe(StageReport(*predicted));
+  EXPECT_NEAR(predicted->wall_thickness, 0.05, 0.005);
+  EXPECT_EQ(mesh.dice, 1);
+  EXPECT_EQ(mesh.thickness_ratio_used, predicted->thickness_ratio);
+  EXPECT_FALSE(mesh.thickness_retry.ran);
+  for (const auto& stage : mesh.stages) EXPECT_NE(stage.name, "curvature-sized try");
+  EXPECT_NE(summary_table(mesh, automatic).find("a membrane, sized by wall thickness from the start"),
+            std::string::npos);
+  // The criteria of a thin-walled mesh: no inverted hex, conforming, on the input within 1%
+  // of its diagonal and 3% of its volume, under a third of THex's nodes. (The floor of 0.2
+  // on the scaled Jacobian is not met yet: a few hexes where the rim is projected stay
+  // below it, docs/METHOD.md, Thin walls.)
+  EXPECT_EQ(mesh.quality.inverted, 0u);
+  EXPECT_GT(mesh.quality.scaled_jacobian_stats.min, 0.0);
+  EXPECT_TRUE(mesh.conforming);
+  EXPECT_LE(mesh.hausdorff, 0.01 * diagonal);
+  EXPECT_NEAR(mesh.hex_volume, mesh.input_summary.volume, 0.03 * mesh.input_summary.volume);
+  EXPECT_LT(3 * mesh.hexes.nodes.size(), thex.hexes.nodes.size());
 }
