@@ -230,10 +230,12 @@ int main(int argc, char** argv) {
   app.add_option("--thickness-ratio", thickness_ratio,
                  "largest target edge length in wall thicknesses, for thin-walled inputs (a pelvis wing, a skull vault):\n"
                  "where a wall is thinner than the curvature size, the size follows the thickness. 0 = curvature alone,\n"
-                 "as the paper; 1 is a good value. auto (default): curvature alone, and when that leaves poor hexes\n"
-                 "(inverted, or scaled Jacobian < 0.2) with 5% or more of the input on walls thinner than their size,\n"
-                 "mesh again at 1 and keep the better mesh (conforming, fewer inverted, higher min scaled Jacobian);\n"
-                 "auto does not retry with --target-nodes")
+                 "as the paper; 1 is a good value. auto (default): 1 from the start where 2.5% or more of the input\n"
+                 "lies on walls 2x thinner than their curvature size (a membrane, a quarter on walls 4x thinner: 1.25,\n"
+                 "dice 1 unless --dice is given, no edge shorter than the wall); else curvature alone, and when that\n"
+                 "leaves poor hexes (inverted, or scaled Jacobian < 0.2) with 5% or more of the input on walls thinner\n"
+                 "than their size, mesh again at 1 and keep the better mesh (conforming, fewer inverted, higher min\n"
+                 "scaled Jacobian); auto neither predicts nor retries with --target-nodes")
       ->default_val("auto")
       ->check(CLI::Validator(
           [](std::string& value) -> std::string {

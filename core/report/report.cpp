@@ -626,6 +626,7 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
                   {"max_edge_ratio", o.max_edge_ratio},
                   {"thickness_ratio", o.thickness_ratio},
                   {"thickness_retry", o.thickness_retry},
+                  {"predict_thin_walls", o.predict_thin_walls},
                   {"thex_only", o.thex_only},
                   {"project", o.project},
                   {"strict", o.strict},
