@@ -1,0 +1,144 @@
+// SPDX-License-Identifier: MIT
+// SweepDecimaterT: every collapse it makes is legal when it is made, it leaves no legal
+// collapse behind when it sweeps to the end, and (without smoothing) it moves no vertex.
+#include <dthex/modules/ModEdgeSwapT.hh>
+#include <dthex/modules/ModNormalizedLengthT.hh>
+#include <dthex/modules/RevalidatingDecimaterT.hh>
+#include <dthex/modules/SweepDecimaterT.hh>
+
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+
+namespace {
+
+struct SweepTraits : OpenMesh::DefaultTraits {
+  using Point = OpenMesh::Vec3d;
+  using Normal = OpenMesh::Vec3d;
+  FaceAttributes(OpenMesh::Attributes::Normal);
+};
+using SweepMesh = OpenMesh::TriMesh_ArrayKernelT<SweepTraits>;
+
+//! The unit icosahedron's faces split `levels` times, vertices pushed onto the unit sphere.
+SweepMesh sweep_icosphere(int levels) {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<OpenMesh::Vec3d> p = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                                    {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                       {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                       {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                       {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  for (int level = 0; level < levels; ++level) {
+    std::map<std::pair<int, int>, int> mid;
+    auto midpoint = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      if (mid.count(key)) return mid[key];
+      p.push_back((p[size_t(a)] + p[size_t(b)]) / 2);
+      return mid[key] = int(p.size()) - 1;
+    };
+    std::vector<std::array<int, 3>> g;
+    for (const auto& tri : f) {
+      const int a = midpoint(tri[0], tri[1]), b = midpoint(tri[1], tri[2]), c = midpoint(tri[2], tri[0]);
+      g.insert(g.end(), {{tri[0], a, c}, {tri[1], b, a}, {tri[2], c, b}, {a, b, c}});
+    }
+    f = g;
+  }
+  SweepMesh mesh;
+  std::vector<SweepMesh::VertexHandle> vh;
+  for (auto& q : p) vh.push_back(mesh.add_vertex(q.normalized()));
+  for (const auto& tri : f) mesh.add_face(vh[size_t(tri[0])], vh[size_t(tri[1])], vh[size_t(tri[2])]);
+  mesh.request_vertex_status();
+  mesh.request_edge_status();
+  mesh.request_face_status();
+  mesh.update_face_normals();
+  return mesh;
+}
+
+//! Binary, always legal: asks, just before each executed collapse, the length module's own
+//! test and the topology test whether that collapse is allowed on the mesh as it is then.
+template <class MeshT>
+class ModSweepCheckT : public OpenMesh::Decimater::ModBaseT<MeshT> {
+ public:
+  DECIMATING_MODULE(ModSweepCheckT, MeshT, SweepCheck);
+  explicit ModSweepCheckT(MeshT& mesh) : Base(mesh, true) {}
+  void initialize() override { Base::mesh().get_property_handle(size_, dthex::size_property_name()); }
+  float collapse_priority(const CollapseInfo&) override { return float(Base::LEGAL_COLLAPSE); }
+  void preprocess_collapse(const CollapseInfo& ci) override {
+    auto& m = Base::mesh();
+    ++executed;
+    const double l = dthex::normalized_length((ci.p1 - ci.p0).norm(), m.property(size_, ci.v1), m.property(size_, ci.v0));
+    const bool ok = l < 1.0 && m.is_collapse_ok(ci.v0v1) && !m.status(ci.v0).locked() &&
+                    dthex::ModNormalizedLengthT<MeshT>::collapse_keeps_shape(m, ci, size_, dthex::NormalizedLengthLimits{});
+    if (!ok) ++rejected;
+  }
+  size_t executed = 0, rejected = 0;
+
+ private:
+  OpenMesh::VPropHandleT<double> size_;
+};
+
+//! Decimates `mesh` (sizes h everywhere) with the length and swap modules; returns the
+//! collapses made and those the check found illegal when they were made.
+template <class Decimater>
+std::pair<size_t, size_t> decimate_with(SweepMesh& mesh, bool sweep_to_the_end) {
+  const OpenMesh::VPropHandleT<double> size = dthex::size_property(mesh);
+  Decimater decimater(mesh);
+  typename dthex::ModNormalizedLengthT<SweepMesh>::Handle length;
+  typename dthex::ModEdgeSwapT<SweepMesh>::Handle swap;
+  typename ModSweepCheckT<SweepMesh>::Handle check;
+  decimater.add(length);
+  decimater.add(swap);
+  decimater.add(check);
+  decimater.set_priority_estimate([&mesh, size](const typename Decimater::CollapseInfo& ci) {
+    return dthex::ModNormalizedLengthT<SweepMesh>::priority_estimate(mesh, size, ci);
+  });
+  EXPECT_TRUE(decimater.initialize());
+  size_t collapses = 0;
+  if constexpr (std::is_same_v<Decimater, dthex::SweepDecimaterT<SweepMesh>>)
+    collapses = sweep_to_the_end ? decimater.decimate(1000, 0.0) : decimater.decimate();
+  else
+    collapses = decimater.decimate();
+  EXPECT_EQ(decimater.module(check).executed, collapses);
+  return {collapses, decimater.module(check).rejected};
+}
+
+}  // namespace
+
+TEST(SweepDecimater, CollapsesOnlyLegallyMovesNothingAndLeavesNothingLegal) {
+  SweepMesh mesh = sweep_icosphere(4);  // 2562 vertices, edges ~0.06
+  const size_t before = mesh.n_vertices();
+  const auto size = dthex::size_property(mesh);
+  for (auto v : mesh.vertices()) mesh.property(size, v) = 0.3;
+  const auto locked = mesh.vertex_handle(7);
+  mesh.status(locked).set_locked(true);
+  std::set<std::array<double, 3>> original;
+  for (auto v : mesh.vertices()) original.insert({mesh.point(v)[0], mesh.point(v)[1], mesh.point(v)[2]});
+
+  const auto [collapses, illegal] = decimate_with<dthex::SweepDecimaterT<SweepMesh>>(mesh, true);
+  EXPECT_EQ(illegal, 0u);
+  EXPECT_GT(collapses, before * 9 / 10);  // h = 0.3 is ~5 input edges: most vertices go
+  // Nothing legal is left: the greedy decimater with the same modules finds no collapse.
+  EXPECT_EQ(decimate_with<dthex::RevalidatingDecimaterT<SweepMesh>>(mesh, false).first, 0u);
+  EXPECT_FALSE(mesh.status(locked).deleted());
+  mesh.garbage_collection();
+  EXPECT_EQ(mesh.n_vertices(), before - collapses);
+  EXPECT_EQ(int(mesh.n_vertices()) - int(mesh.n_edges()) + int(mesh.n_faces()), 2);
+  for (auto e : mesh.edges()) EXPECT_FALSE(mesh.is_boundary(e));
+  for (auto v : mesh.vertices())
+    EXPECT_TRUE(original.count({mesh.point(v)[0], mesh.point(v)[1], mesh.point(v)[2]})) << "vertex " << v.idx() << " moved";
+}
+
+TEST(SweepDecimater, StopsWhenASweepCollapsesTooFew) {
+  // With the default share (2 %) it stops earlier than sweeping to the end, never later.
+  SweepMesh to_the_end = sweep_icosphere(4), by_share = sweep_icosphere(4);
+  for (SweepMesh* mesh : {&to_the_end, &by_share}) {
+    const auto size = dthex::size_property(*mesh);
+    for (auto v : mesh->vertices()) mesh->property(size, v) = 0.3;
+  }
+  const size_t all = decimate_with<dthex::SweepDecimaterT<SweepMesh>>(to_the_end, true).first;
+  const size_t some = decimate_with<dthex::SweepDecimaterT<SweepMesh>>(by_share, false).first;
+  EXPECT_LE(some, all);
+  EXPECT_GT(some, all * 8 / 10);
+}
