@@ -2,9 +2,11 @@
 // Benchmark of the DTHex coarsening: the paper's Table I (triangle shape of the input and
 // after eps 0.01, 0.1, 0.5), Table II (local vs global smoothing at eps 0.01 and 0.05) and
 // coarsening time against OpenMesh's ModQuadricT decimating to the same vertex count.
-// Usage: coarsen_bench [--only EPS] [--split-from N] MESH.off [MESH2.off ...]
+// Usage: coarsen_bench [--only EPS] [--split-from N] [--rough-from N] [--rough-fraction F] MESH.off [...]
 //        (--only: one coarsening per mesh at EPS, timing only, for profiling;
-//         --split-from: CoarsenOptions::split_from_vertices, 0 = never in two halves)
+//         --split-from: CoarsenOptions::split_from_vertices, 0 = never in two halves;
+//         --rough-from, --rough-fraction: CoarsenOptions::rough_pass_from_vertices and
+//         rough_pass_fraction, 0 = no rough pass)
 #include <dthex/io/read_surface.h>
 #include <dthex/mesh/quality.h>
 #include <dthex/mesh/surface_mesh.h>
@@ -50,6 +52,8 @@ int main(int argc, char** argv) {
   }
   double only = 0;
   size_t split_from = dthex::CoarsenOptions().split_from_vertices;
+  size_t rough_from = dthex::CoarsenOptions().rough_pass_from_vertices;
+  double rough_fraction = dthex::CoarsenOptions().rough_pass_fraction;
   for (int i = 1; i < argc; ++i) {
     if (std::string(argv[i]) == "--only" && i + 1 < argc) {
       only = std::stod(argv[++i]);
@@ -59,12 +63,22 @@ int main(int argc, char** argv) {
       split_from = size_t(std::stoul(argv[++i]));
       continue;
     }
+    if (std::string(argv[i]) == "--rough-from" && i + 1 < argc) {
+      rough_from = size_t(std::stoul(argv[++i]));
+      continue;
+    }
+    if (std::string(argv[i]) == "--rough-fraction" && i + 1 < argc) {
+      rough_fraction = std::stod(argv[++i]);
+      continue;
+    }
     try {
       if (only > 0) {
         const dthex::TriSurface input = load(argv[i]);
         dthex::CoarsenOptions options;
         options.eps = only;
         options.split_from_vertices = split_from;
+        options.rough_pass_from_vertices = rough_from;
+        options.rough_pass_fraction = rough_fraction;
         const double c0 = cpu_seconds();
         const auto r = dthex::coarsen(input, options);
         const double cpu = cpu_seconds() - c0;
@@ -86,6 +100,8 @@ int main(int argc, char** argv) {
         dthex::CoarsenOptions options;
         options.eps = eps;
         options.split_from_vertices = split_from;
+        options.rough_pass_from_vertices = rough_from;
+        options.rough_pass_fraction = rough_fraction;
         const double c0 = cpu_seconds();
         const auto r = dthex::coarsen(input, options);
         const double cpu = cpu_seconds() - c0;
@@ -101,6 +117,8 @@ int main(int argc, char** argv) {
           dthex::CoarsenOptions options;
           options.eps = eps;
           options.split_from_vertices = split_from;
+        options.rough_pass_from_vertices = rough_from;
+        options.rough_pass_fraction = rough_fraction;
           options.local_smoothing = !global;
           options.global_smoothing = global;
           const double c0 = cpu_seconds();

@@ -11,6 +11,7 @@
 #include <dthex/modules/ModLocalSmoothingT.hh>
 #include <dthex/modules/ModNormalizedLengthT.hh>
 #include <dthex/modules/RevalidatingDecimaterT.hh>
+#include <dthex/modules/SweepDecimaterT.hh>
 
 #include <OpenMesh/Tools/Decimater/Observer.hh>
 
@@ -92,15 +93,16 @@ class InputSurface {
 
 class ProgressObserver : public OpenMesh::Decimater::Observer {
  public:
-  ProgressObserver(const std::function<void(double)>& progress, double total)
-      : Observer(64), progress_(progress), total_(std::max(total, 1.0)) {}
+  //! `done`: collapses made before this decimater's (by a rough pass), counted as done.
+  ProgressObserver(const std::function<void(double)>& progress, double total, double done = 0)
+      : Observer(64), progress_(progress), total_(std::max(total, 1.0)), done_(done) {}
   void notify(size_t step) override {
-    if (progress_) progress_(std::min(1.0, double(step) / total_));
+    if (progress_) progress_(std::min(1.0, (done_ + double(step)) / total_));
   }
 
  private:
   const std::function<void(double)>& progress_;
-  double total_;
+  double total_, done_;
 };
 
 double orient(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
@@ -161,24 +163,70 @@ double bbox_diagonal(const TriSurface& s) {
 struct RunOutput {
   TriSurface surface;
   std::vector<double> sizes;
-  size_t collapses = 0, swaps = 0, moves = 0;
+  size_t collapses = 0, swaps = 0, moves = 0, rough_collapses = 0;
   size_t cut_vertices = 0;
 };
 
 //! Counts of one decimation.
 struct DecimationCounts {
-  size_t collapses = 0, swaps = 0, moves = 0;
+  size_t collapses = 0, swaps = 0, moves = 0, rough_collapses = 0;
 };
 
+//! The cheap first pass of CoarsenOptions::rough_pass_from_vertices on a mesh whose status and
+//! sizes are set: collapses only edges shorter than `fraction` of their size (the sizes are
+//! scaled by it meanwhile, so every bound of ModNormalizedLengthT holds at that scale), with
+//! edge swaps but without smoothing, placement or surface-normal test. Every vertex left is an
+//! input vertex where it was, with its own size, so no closest-point query is needed.
+DecimationCounts rough_pass(SurfaceMesh& mesh, const CoarsenOptions& options, double fraction) {
+  const auto size = size_property(mesh);
+  std::vector<double> sizes(mesh.n_vertices());
+  for (auto v : mesh.vertices()) {
+    sizes[size_t(v.idx())] = mesh.property(size, v);
+    mesh.property(size, v) *= fraction;
+  }
+  DecimationCounts out;
+  {
+    SweepDecimaterT<SurfaceMesh> decimater(mesh);
+    ModNormalizedLengthT<SurfaceMesh>::Handle length;
+    ModEdgeSwapT<SurfaceMesh>::Handle swap;
+    decimater.add(length);
+    NormalizedLengthLimits limits;
+    limits.max_normalized_length = options.max_normalized_length;
+    limits.max_normal_deviation_deg = options.max_normal_deviation_deg;
+    limits.min_shape = options.min_shape;
+    decimater.module(length).set_limits(limits);
+    if (options.edge_swap) {
+      decimater.add(swap);
+      EdgeSwapOptions swap_options;
+      swap_options.max_dihedral_deg = options.swap_max_dihedral_deg;
+      swap_options.max_normalized_length = options.max_normalized_length;
+      decimater.module(swap).set_options(swap_options);
+    }
+    decimater.set_priority_estimate([&mesh, size](const ModNormalizedLengthT<SurfaceMesh>::CollapseInfo& ci) {
+      return ModNormalizedLengthT<SurfaceMesh>::priority_estimate(mesh, size, ci);
+    });
+    if (!decimater.initialize()) throw MeshingError("coarsening: the decimater modules failed to initialize");
+    out.collapses = decimater.decimate();
+    if (options.edge_swap) out.swaps = decimater.module(swap).n_swaps();
+  }
+  for (auto v : mesh.vertices()) mesh.property(size, v) = sizes[size_t(v.idx())];
+  return out;
+}
+
 //! Decimates a mesh whose status (features, locks) and sizes are set, with the DTHex modules.
-//! `progress_total`: the collapses that count as done (0: no progress reports).
+//! `progress_total`: the collapses that count as done (0: no progress reports). `rough`: run
+//! rough_pass first (CoarsenOptions::rough_pass_from_vertices).
 DecimationCounts decimate_prepared(SurfaceMesh& mesh, const InputSurface& surface, const CoarsenOptions& options,
-                                   double progress_total) {
+                                   double progress_total, bool rough) {
   mesh.request_vertex_status();
   mesh.request_edge_status();
   mesh.request_face_status();
   const auto size = size_property(mesh);
   DecimationCounts out;
+  if (rough) {
+    out = rough_pass(mesh, options, options.rough_pass_fraction);
+    out.rough_collapses = out.collapses;
+  }
   RevalidatingDecimaterT<SurfaceMesh> decimater(mesh);
   ModCurvatureSizingT<SurfaceMesh>::Handle sizing;
   ModNormalizedLengthT<SurfaceMesh>::Handle length;
@@ -226,12 +274,12 @@ DecimationCounts decimate_prepared(SurfaceMesh& mesh, const InputSurface& surfac
     return ModNormalizedLengthT<SurfaceMesh>::priority_estimate(mesh, size, ci);
   });
   static const std::function<void(double)> no_progress;
-  ProgressObserver observer(progress_total > 0 ? options.progress : no_progress, progress_total);
+  ProgressObserver observer(progress_total > 0 ? options.progress : no_progress, progress_total, double(out.collapses));
   decimater.set_observer(&observer);
   if (!decimater.initialize()) throw MeshingError("coarsening: the decimater modules failed to initialize");
-  out.collapses = decimater.decimate();
-  if (options.edge_swap) out.swaps = decimater.module(swap).n_swaps();
-  if (options.local_smoothing) out.moves = decimater.module(smoothing).n_moves();
+  out.collapses += decimater.decimate();
+  if (options.edge_swap) out.swaps += decimater.module(swap).n_swaps();
+  if (options.local_smoothing) out.moves += decimater.module(smoothing).n_moves();
   decimater.set_observer(nullptr);
   return out;
 }
@@ -240,7 +288,7 @@ DecimationCounts decimate_prepared(SurfaceMesh& mesh, const InputSurface& surfac
 //! has the cut left to remove; the result goes to `joined`. False if it cannot be split.
 //! `whole` itself is not copied: the run's sizes and locks travel in `extras`.
 bool decimate_in_halves(const SurfaceMesh& whole, const SplitExtras& extras, const InputSurface& surface,
-                        const CoarsenOptions& options, SurfaceMesh& joined, DecimationCounts& counts,
+                        const CoarsenOptions& options, bool rough, SurfaceMesh& joined, DecimationCounts& counts,
                         size_t& cut_vertices) {
   SurfaceHalves split;
   if (!split_in_halves(whole, split, extras)) return false;
@@ -252,7 +300,7 @@ bool decimate_in_halves(const SurfaceMesh& whole, const SplitExtras& extras, con
   for (int p = 0; p < 2; ++p) {
     try {
       // Only the first half reports progress (the callback is not made for two threads).
-      half_counts[p] = decimate_prepared(split.halves[size_t(p)], surface, options, p == 0 ? 0.5 * total : 0);
+      half_counts[p] = decimate_prepared(split.halves[size_t(p)], surface, options, p == 0 ? 0.5 * total : 0, rough);
     } catch (...) {
       failure[p] = std::current_exception();
     }
@@ -260,11 +308,12 @@ bool decimate_in_halves(const SurfaceMesh& whole, const SplitExtras& extras, con
   for (const auto& f : failure)
     if (f) std::rethrow_exception(f);
   joined = join_halves(split, whole, extras);
-  counts = decimate_prepared(joined, surface, options, 0);
+  counts = decimate_prepared(joined, surface, options, 0, false);
   for (const auto& c : half_counts) {
     counts.collapses += c.collapses;
     counts.swaps += c.swaps;
     counts.moves += c.moves;
+    counts.rough_collapses += c.rough_collapses;
   }
   return true;
 }
@@ -275,9 +324,10 @@ RunOutput run_once(const SurfaceMesh& input_mesh, const TriSurface& input, const
   DecimationCounts counts;
   RunOutput out;
   SurfaceMesh mesh;
+  const bool rough = options.rough_pass_from_vertices > 0 && input_mesh.n_vertices() >= options.rough_pass_from_vertices;
   const bool halves =
       options.split_from_vertices > 0 && input_mesh.n_vertices() >= options.split_from_vertices &&
-      decimate_in_halves(input_mesh, SplitExtras{&h, &locked}, surface, options, mesh, counts, out.cut_vertices);
+      decimate_in_halves(input_mesh, SplitExtras{&h, &locked}, surface, options, rough, mesh, counts, out.cut_vertices);
   if (!halves) {
     // The copy keeps the input's feature and corner marks (coarsen() made them).
     mesh = input_mesh;
@@ -289,11 +339,12 @@ RunOutput run_once(const SurfaceMesh& input_mesh, const TriSurface& input, const
       if (locked[size_t(v.idx())]) mesh.status(v).set_locked(true);
     const auto size = size_property(mesh);
     for (auto v : mesh.vertices()) mesh.property(size, v) = h[size_t(v.idx())];
-    counts = decimate_prepared(mesh, surface, options, 0.9 * double(input.points.size()));
+    counts = decimate_prepared(mesh, surface, options, 0.9 * double(input.points.size()), rough);
   }
   out.collapses = counts.collapses;
   out.swaps = counts.swaps;
   out.moves = counts.moves;
+  out.rough_collapses = counts.rough_collapses;
   const auto final_size = size_property(mesh);
   for (auto v : mesh.vertices())
     if (!mesh.status(v).deleted()) out.sizes.push_back(mesh.property(final_size, v));
@@ -419,6 +470,7 @@ CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options, co
   result.collapses = run.collapses;
   result.swaps = run.swaps;
   result.smoothing_moves = run.moves;
+  result.rough_collapses = run.rough_collapses;
   result.cut_vertices = run.cut_vertices;
 
   if (options.global_smoothing) {

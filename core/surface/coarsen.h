@@ -48,6 +48,15 @@ struct CoarsenOptions {
   //! cut; 0 never splits. The result differs from one run over the whole (another greedy
   //! order) but not in kind; smaller inputs gain too little time to be worth the cut.
   size_t split_from_vertices = 4000;
+  //! Inputs with at least this many vertices are first decimated roughly (SweepDecimaterT):
+  //! only edges shorter than rough_pass_fraction of their size collapse, with swaps but without
+  //! smoothing, placement or the surface-normal test, so no vertex leaves the input and no
+  //! closest-point query is made; the full decimation then starts from far fewer vertices.
+  //! 0 never; below it the cost of the full decimation alone is small.
+  size_t rough_pass_from_vertices = 100000;
+  //! See rough_pass_from_vertices: in (0, 1]. Smaller leaves more to the full decimation
+  //! (slower, closer to its result alone).
+  double rough_pass_fraction = 0.25;
   //! Called with a rough completed fraction in [0, 1].
   std::function<void(double)> progress;
 };
@@ -57,6 +66,7 @@ struct CoarsenResult {
   std::vector<double> sizes;      //!< sizing field at each coarse vertex
   size_t input_vertices = 0;
   size_t collapses = 0, swaps = 0, smoothing_moves = 0;
+  size_t rough_collapses = 0;     //!< of the collapses, those of the rough pass
   //! 0 when global smoothing was off, or undone because it made the surface self-intersect.
   size_t global_smoothing_iterations = 0;
   size_t feature_edges = 0, feature_corners = 0;  //!< on the input

@@ -394,3 +394,27 @@ TEST(Coarsen, SurfaceDeviationBoundKeepsTrianglesFacingTheInput) {
   EXPECT_LT(turn_bounded, 75.0);
   check_coarse_surface(input, bounded, "spot.off");
 }
+
+// The rough pass (forced here on an input below its default threshold) does most of the
+// collapses, and the surface it leads to is as valid and of the same kind as the one the full
+// decimation makes alone: the same checks pass, about as many vertices, shapes as good, and
+// no triangle turned further from the input than the surface bound allows, though the rough
+// pass itself does not test that bound.
+TEST(Coarsen, RoughPassDoesMostCollapsesAndGivesTheSameKindOfSurface) {
+  const TriSurface input = load("femur_proximal_ct.off");
+  CoarsenOptions full;
+  full.rough_pass_from_vertices = 0;
+  CoarsenOptions rough;
+  rough.rough_pass_from_vertices = 1;
+  const CoarsenResult a = coarsen(input, full), b = coarsen(input, rough);
+  EXPECT_EQ(a.rough_collapses, 0u);
+  EXPECT_GT(b.rough_collapses, b.collapses / 2);
+  EXPECT_EQ(b.collapses, input.points.size() - b.surface.points.size());
+  EXPECT_NEAR(double(b.surface.points.size()), double(a.surface.points.size()), 0.25 * double(a.surface.points.size()));
+  EXPECT_GT(summarize(triangle_shapes(b.surface)).avg, summarize(triangle_shapes(a.surface)).avg - 0.05);
+  const double turn_full = largest_turn_from_input(a.surface, input), turn_rough = largest_turn_from_input(b.surface, input);
+  std::printf("femur: %zu / %zu vertices, largest turn from the input %.1f / %.1f deg (full / with rough pass)\n",
+              a.surface.points.size(), b.surface.points.size(), turn_full, turn_rough);
+  EXPECT_LT(turn_rough, 75.0);
+  check_coarse_surface(input, rough, "femur_proximal_ct.off");
+}
