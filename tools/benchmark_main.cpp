@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
 // benchmark: THex and DTHex side by side over a set of surfaces, the paper-style table
 // (nodes, hexes, shape avg/std/min/max, min scaled Jacobian, inverted, Hausdorff, volume
-// error, seconds per stage, peak memory), printed, as CSV (--csv) and as Markdown
+// error, seconds and peak memory per stage), printed, as CSV (--csv) and as Markdown
 // (--markdown) for the README. Every run is a forked child with a timeout, so one mesh
-// that hangs or crashes costs its row only, and its peak memory is its own (wait4).
+// that hangs or crashes costs its row only, and its peak memory is its own (wait4). The
+// child samples its own resident set while it runs, for the peak of each stage.
 //
 //   build/benchmark                      every surface in meshes/
 //   build/benchmark --only femur --csv femur.csv
@@ -24,6 +25,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -33,6 +35,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <thread>
 
 namespace fs = std::filesystem;
 
@@ -50,11 +53,12 @@ struct Row {
   double shape_avg = 0, shape_std = 0, shape_min = 0, shape_max = 0, sj_min = 0;
   double hausdorff_percent = 0, volume_error_percent = 0;
   std::map<std::string, double> stage_seconds;
+  std::map<std::string, double> stage_peak_mb;  //!< largest resident set seen during the stage
   double total_seconds = 0, peak_mb = 0, wall_seconds = 0;
 };
 
-std::string column_name(const std::string& stage) {
-  std::string name = "t_" + stage;
+std::string column_name(const std::string& stage, const std::string& prefix = "t_") {
+  std::string name = prefix + stage;
   std::replace(name.begin(), name.end(), ' ', '_');
   return name;
 }
@@ -79,15 +83,112 @@ void read_report(const nlohmann::json& j, Row& row) {
   const double input_volume = j["input"]["surface"]["volume"];
   row.volume_error_percent =
       input_volume != 0 ? 100.0 * (hex["volume"].get<double>() - input_volume) / input_volume : 0.0;
-  for (const auto& s : j["stages"]) {
-    const std::string name = s["name"];
+  const nlohmann::json& stages = j["stages"];
+  const nlohmann::json peaks = j.value("stage_peak_mb", nlohmann::json::array());
+  for (size_t i = 0; i < stages.size(); ++i) {
+    const std::string name = stages[i]["name"];
     const bool known = std::find(kStages.begin(), kStages.end(), name) != kStages.end();
-    row.stage_seconds[known ? name : "other"] += s["seconds"].get<double>();
+    const std::string column = known ? name : "other";
+    row.stage_seconds[column] += stages[i]["seconds"].get<double>();
+    if (i < peaks.size()) row.stage_peak_mb[column] = std::max(row.stage_peak_mb[column], peaks[i].get<double>());
   }
   row.total_seconds = j["total_seconds"];
 }
 
-// Runs the pipeline in a child; the child sends its JSON report through a pipe.
+// The resident set of this process, sampled every few milliseconds from a thread while it
+// lives, and the time spans of the pipeline's stages, read from what its progress display
+// writes when a stage begins and ends: the samples within a stage's span give its peak
+// (memory held from earlier stages included, as it is in the process's peak).
+class StageMemory {
+ public:
+  StageMemory()
+      : start_(std::chrono::steady_clock::now()),
+        stream_(::fopencookie(this, "w", cookie_io_functions_t{nullptr, &StageMemory::written, nullptr, nullptr})),
+        thread_([this] { sample(); }) {}
+  ~StageMemory() {
+    stop();
+    if (stream_) std::fclose(stream_);
+  }
+  StageMemory(const StageMemory&) = delete;
+  StageMemory& operator=(const StageMemory&) = delete;
+
+  //! Where a Progress in Live mode (set_every_stage) writes; nullptr if it could not be made.
+  std::FILE* stream() const { return stream_; }
+  void stop() {
+    done_ = true;
+    if (thread_.joinable()) thread_.join();
+  }
+  //! Per stage name in `names`, in order, the peak resident MB of the next span of that name
+  //! (0 when there is none: a stage whose record was dropped, e.g. a failed coarsening, still
+  //! has its span, which is then skipped).
+  std::vector<double> peaks_mb(const std::vector<std::string>& names) const {
+    std::vector<double> peaks;
+    size_t next = 0;
+    for (const std::string& name : names) {
+      size_t k = next;
+      while (k < spans_.size() && spans_[k].name != name) ++k;
+      if (k == spans_.size()) {
+        peaks.push_back(0);
+        continue;
+      }
+      next = k + 1;
+      // A span shorter than the sampling step gets the first sample after it began.
+      double peak = 0;
+      for (const auto& [t, mb] : samples_)
+        if (t >= spans_[k].begin && (t <= spans_[k].end || peak == 0)) peak = std::max(peak, mb);
+        else if (t > spans_[k].end) break;
+      peaks.push_back(peak);
+    }
+    return peaks;
+  }
+
+ private:
+  struct Span {
+    std::string name;
+    double begin = 0, end = 0;
+  };
+  double now() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+  // Live mode writes "\r  NAME ..." when a stage begins (then flushes) and "\r\033[K..."
+  // when it ends; progress bars in between are ignored.
+  static ssize_t written(void* cookie, const char* data, size_t size) {
+    auto* self = static_cast<StageMemory*>(cookie);
+    const std::string text(data, size);
+    const double t = self->now();
+    if (text.find("\033[K") != std::string::npos && !self->spans_.empty() && self->spans_.back().end == 0)
+      self->spans_.back().end = t;
+    const size_t dots = text.rfind(" ...");
+    if (text.rfind("\r  ", 0) == 0 && dots != std::string::npos && dots + 4 == text.size()) {
+      std::string name = text.substr(3, dots - 3);
+      while (!name.empty() && name.back() == ' ') name.pop_back();
+      self->spans_.push_back({name, t, 0});
+    }
+    return ssize_t(size);
+  }
+  void sample() {
+    const double page_mb = double(::sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
+    std::vector<std::pair<double, double>> samples;
+    while (!done_) {
+      unsigned long long size = 0, resident = 0;
+      if (std::FILE* statm = std::fopen("/proc/self/statm", "r")) {
+        if (std::fscanf(statm, "%llu %llu", &size, &resident) != 2) resident = 0;
+        std::fclose(statm);
+      }
+      samples.emplace_back(now(), double(resident) * page_mb);
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    samples_ = std::move(samples);  // read only after stop()
+  }
+
+  std::chrono::steady_clock::time_point start_;
+  std::FILE* stream_;
+  std::vector<Span> spans_;
+  std::atomic<bool> done_{false};
+  std::vector<std::pair<double, double>> samples_;  // seconds, MB
+  std::thread thread_;  // last: starts once the members above exist
+};
+
+// Runs the pipeline in a child; the child sends its JSON report through a pipe, with the
+// peak resident set of each stage added ("stage_peak_mb", in the order of "stages").
 Row run_one(const std::string& path, const std::string& mesh, const std::string& method,
             const dthex::PipelineOptions& options, double timeout_seconds) {
   Row row;
@@ -104,9 +205,18 @@ Row run_one(const std::string& path, const std::string& mesh, const std::string&
     std::string text;
     int code = 0;
     try {
-      dthex::Progress quiet;
-      const dthex::PipelineResult result = dthex::run_pipeline(path, options, quiet);
-      text = dthex::report_json(result, options);
+      StageMemory memory;
+      dthex::Progress progress(memory.stream() ? dthex::Progress::Mode::Live : dthex::Progress::Mode::Quiet,
+                               memory.stream());
+      progress.set_every_stage(true);
+      const dthex::PipelineResult result = dthex::run_pipeline(path, options, progress);
+      if (memory.stream()) std::fflush(memory.stream());
+      memory.stop();
+      nlohmann::json j = nlohmann::json::parse(dthex::report_json(result, options));
+      std::vector<std::string> names;
+      for (const auto& stage : result.stages) names.push_back(stage.name);
+      if (memory.stream()) j["stage_peak_mb"] = memory.peaks_mb(names);
+      text = j.dump();
     } catch (const std::exception& e) {
       text = nlohmann::json{{"error", e.what()}}.dump();
       code = 3;
@@ -203,7 +313,9 @@ std::vector<std::string> csv_header() {
                                 "shape_min", "shape_max", "sj_min",   "inverted",        "conforming",
                                 "boundary_faces_inside", "hausdorff_pct", "volume_error_pct"};
   for (const auto& s : kStages) h.push_back(column_name(s));
-  h.insert(h.end(), {"t_other", "total_seconds", "peak_mb", "message"});
+  h.insert(h.end(), {"t_other", "total_seconds", "peak_mb"});
+  for (const auto& s : kStages) h.push_back(column_name(s, "peak_mb_"));
+  h.insert(h.end(), {"peak_mb_other", "message"});
   return h;
 }
 
@@ -246,6 +358,12 @@ std::vector<std::string> csv_fields(const Row& r) {
   f.push_back(other == r.stage_seconds.end() ? "" : num(other->second));
   f.push_back(num(r.total_seconds));
   f.push_back(num(r.peak_mb));
+  for (const auto& s : kStages) {
+    const auto it = r.stage_peak_mb.find(s);
+    f.push_back(it == r.stage_peak_mb.end() ? "" : num(it->second));
+  }
+  const auto other_peak = r.stage_peak_mb.find("other");
+  f.push_back(other_peak == r.stage_peak_mb.end() ? "" : num(other_peak->second));
   f.push_back(r.message);
   return f;
 }
@@ -276,7 +394,7 @@ std::string tables(const std::vector<Row>& rows, bool markdown) {
   std::vector<std::vector<std::string>> quality = {{"mesh", "method", "triangles", "nodes", "hexes", "shape avg",
                                                     "shape std", "shape min", "shape max", "min SJ", "inverted",
                                                     "conforming", "Hausdorff %", "volume err %", "seconds", "peak MB"}};
-  std::vector<std::vector<std::string>> timing = {{"mesh", "method"}};
+  std::vector<std::vector<std::string>> timing = {{"mesh", "method"}}, memory = {{"mesh", "method"}};
   std::vector<std::string> stages_seen;
   for (const auto& s : kStages)
     for (const Row& r : rows)
@@ -291,6 +409,8 @@ std::string tables(const std::vector<Row>& rows, bool markdown) {
     }
   for (const auto& s : stages_seen) timing[0].push_back(s);
   timing[0].push_back("total");
+  memory[0] = timing[0];
+  memory[0].back() = "whole run";
   for (const Row& r : rows) {
     if (r.status != "ok") {
       std::vector<std::string> line = {r.mesh, r.method, r.status + ": " + r.message};
@@ -311,6 +431,13 @@ std::string tables(const std::vector<Row>& rows, bool markdown) {
     }
     line.push_back(fixed(r.total_seconds, 2));
     timing.push_back(line);
+    std::vector<std::string> peaks = {r.mesh, r.method};
+    for (const auto& s : stages_seen) {
+      const auto it = r.stage_peak_mb.find(s);
+      peaks.push_back(it == r.stage_peak_mb.end() ? "-" : fixed(it->second, 0));
+    }
+    peaks.push_back(fixed(r.peak_mb, 0));
+    memory.push_back(peaks);
   }
   auto render = [&](const std::vector<std::vector<std::string>>& table) {
     std::vector<size_t> width(table[0].size(), 0);
@@ -343,6 +470,9 @@ std::string tables(const std::vector<Row>& rows, bool markdown) {
   };
   std::ostringstream out;
   out << render(quality) << "\n" << (markdown ? "Seconds per stage:\n\n" : "seconds per stage\n") << render(timing);
+  // The largest resident set sampled while each stage ran (what earlier stages still hold
+  // included); the last column is the run's own peak as the kernel counts it.
+  out << "\n" << (markdown ? "Peak MB per stage:\n\n" : "peak MB per stage\n") << render(memory);
   // THex time / DTHex time per mesh: the speed-up the method is about.
   std::ostringstream ratios;
   for (const Row& d : rows) {

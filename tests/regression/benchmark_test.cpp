@@ -101,6 +101,19 @@ TEST(Benchmark, CsvRowsAreThePipelinesNumbers) {
       if (column.rfind("t_", 0) == 0 && !value.empty()) stages += std::stod(value);
     EXPECT_LE(stages, std::stod(row.at("total_seconds")) + 1e-6);
     EXPECT_GT(std::stod(row.at("peak_mb")), 1.0);
+    // Every timed stage has its peak resident set, sampled in the child: more than the
+    // program alone, and no more than the run's own peak as the kernel counts it.
+    size_t peaks = 0;
+    for (const auto& [column, value] : row) {
+      if (column.rfind("t_", 0) != 0 || value.empty()) continue;
+      const std::string peak = "peak_mb_" + column.substr(2);
+      ASSERT_TRUE(row.count(peak)) << peak;
+      ASSERT_FALSE(row.at(peak).empty()) << peak;
+      EXPECT_GT(std::stod(row.at(peak)), 1.0) << peak;
+      EXPECT_LE(std::stod(row.at(peak)), std::stod(row.at("peak_mb")) + 0.5) << peak;
+      ++peaks;
+    }
+    EXPECT_GE(peaks, 5u);
   }
   EXPECT_LT(std::stoul(rows[1].at("hexes")), std::stoul(rows[0].at("hexes")));  // dthex after thex, fewer hexes
   fs::remove_all(dir);
