@@ -5,9 +5,11 @@
 # README.md (between its "headline-table" markers) from the same run, so the README's
 # figures and docs/BENCHMARKS.md always come from one measurement.
 #
-#   bash tools/benchmark.sh                    bundled meshes, plus the femur subdivided once
+#   bash tools/benchmark.sh                    bundled meshes, plus the femur subdivided 1 to 3 times
 #   bash tools/benchmark.sh --scaling "1 2"    scaling rows for 1 and 2 Loop subdivisions
 #   bash tools/benchmark.sh --scaling ""       no scaling rows
+#   bash tools/benchmark.sh --scaling-only     only the scaling rows: they replace that section of
+#                                              the output file, the rest stays as measured before
 #   bash tools/benchmark.sh --build DIR        use DIR/benchmark (default: build/)
 #   bash tools/benchmark.sh --no-readme        leave README.md as it is
 #   bash tools/benchmark.sh --output FILE      write FILE instead of docs/BENCHMARKS.md
@@ -29,7 +31,7 @@ cd "$(dirname "$0")/.."
 repo=$(pwd)
 
 build=build
-scaling="1"
+scaling="1 2 3"
 scaling_mesh=meshes/femur_proximal_ct.off
 timeout=400
 update_readme=1
@@ -38,6 +40,7 @@ only=""
 source_commit=""
 peers=../shared/meshes/peer
 peers_only=0
+scaling_only=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build=$2; shift 2 ;;
@@ -50,7 +53,8 @@ while [ $# -gt 0 ]; do
     --output) output=$2; shift 2 ;;
     --peers) peers=$2; shift 2 ;;
     --peers-only) peers_only=1; update_readme=0; shift ;;
-    -h|--help) sed -n '2,26p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --scaling-only) scaling_only=1; update_readme=0; shift ;;
+    -h|--help) sed -n '2,28p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "benchmark.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -230,14 +234,88 @@ if [ "$peers_only" = 1 ]; then
   exit "$status"
 fi
 
+# The scaling rows: the scaling mesh Loop-subdivided K times for each K of --scaling, DTHex
+# only; a summary table (the pipeline against its own floor, reading and verifying the input,
+# and the peak memory) and each K's tables. Writes $work/scaling.md, the section between the
+# scaling-table markers.
+scaling_section() {
+  local k
+  for k in $scaling; do
+    echo "benchmark.sh: $scaling_mesh Loop-subdivided $k times, DTHex only" >&2
+    { time "$bench" "$scaling_mesh" --methods dthex --subdivide "$k" --work-dir "$work/subdivided" --timeout "$timeout" \
+        --markdown --csv "$work/scaling_$k.csv" >"$work/scaling_$k.md" 2>&3 || status=$?; } 3>&2 2>>"$work/cpu"
+    rm -f "$work/subdivided"/*.off  # up to gigabytes each
+  done
+  {
+    echo "<!-- scaling-table:begin -->"
+    echo "## Scaling with input size"
+    echo
+    if [ -z "$scaling" ]; then
+      echo "Left out (\`--scaling \"\"\`)."
+    else
+      echo "\`$scaling_mesh\` Loop-subdivided K times (4^K times the triangles), DTHex only"
+      echo "(\`$shown $scaling_mesh --methods dthex --subdivide K --markdown\`), measured"
+      echo "$(date -u '+%Y-%m-%d %H:%M UTC'), commit \`$commit\` ($tree), load average $(cut -d' ' -f1-3 /proc/loadavg) at the"
+      echo "start. The bundled table above is K = 0. \"Floor\" is the seconds the run spent reading and"
+      echo "verifying its input, \"x floor\" the whole run's seconds over it; peak MB is the run's largest"
+      echo "resident set, and the stage that reached it."
+      echo
+      echo "| K | triangles | nodes | seconds | floor (read + verify) | x floor | coarsen | peak MB | at stage |"
+      echo "|---:|---:|---:|---:|---:|---:|---:|---:|---|"
+      for k in $scaling; do
+        awk -F, -v k="$k" '
+          NR == 1 { for (i = 1; i <= NF; ++i) col[$i] = i; next }
+          $col["status"] != "ok" {
+            # The message is the last column, quoted when it holds a comma; no column before it does.
+            message = $0
+            for (i = 1; i < col["message"]; ++i) sub(/^[^,]*,/, "", message)
+            gsub(/^"|"$/, "", message); gsub(/""/, "\"", message); gsub(/\|/, "\\|", message)
+            printf "| %s | %s | | %s: %s | | | | | |\n", k, $col["input_triangles"], $col["status"], message
+            next
+          }
+          {
+            floor = $col["t_read"] + $col["t_verify"]; peak = 0; at = ""
+            for (c in col) if (c ~ /^peak_mb_/ && $col[c] != "" && $col[c] + 0 > peak) { peak = $col[c] + 0; at = substr(c, 9) }
+            gsub(/_/, " ", at)
+            printf "| %s | %s | %s | %.2f | %.2f | %.1f | %.2f | %.0f | %s |\n", k, $col["input_triangles"], $col["nodes"],
+                   $col["total_seconds"], floor, (floor > 0 ? $col["total_seconds"] / floor : 0), $col["t_coarsen"],
+                   $col["peak_mb"], at
+          }' "$work/scaling_$k.csv"
+      done
+      for k in $scaling; do
+        echo
+        echo "### K = $k"
+        echo
+        cat "$work/scaling_$k.md"
+      done
+    fi
+    echo "<!-- scaling-table:end -->"
+  } >"$work/scaling.md"
+}
+
+# --scaling-only: that section alone, put in place of the one in the output file (or after it).
+if [ "$scaling_only" = 1 ]; then
+  scaling_section
+  mkdir -p "$(dirname "$output")"
+  touch "$output"
+  if grep -q '<!-- scaling-table:begin -->' "$output"; then
+    awk -v table="$work/scaling.md" '
+      /<!-- scaling-table:begin -->/ { while ((getline line < table) > 0) print line; skipping = 1; next }
+      /<!-- scaling-table:end -->/ { skipping = 0; next }
+      !skipping { print }' "$output" >"$work/output.md"
+  else
+    { cat "$output"; echo; cat "$work/scaling.md"; } >"$work/output.md"
+  fi
+  cat "$work/output.md" >"$output"
+  echo "benchmark.sh: wrote the scaling section of $output" >&2
+  cat "$work/scaling.md"
+  exit "$status"
+fi
+
 echo "benchmark.sh: bundled meshes ($bench, timeout $timeout s per run)" >&2
 { time "$bench" --meshes meshes ${only:+--only "$only"} --timeout "$timeout" --markdown --csv "$work/bundled.csv" \
     >"$work/bundled.md" 2>&3 || status=$?; } 3>&2 2>>"$work/cpu"
-for k in $scaling; do
-  echo "benchmark.sh: $scaling_mesh Loop-subdivided $k times, DTHex only" >&2
-  { time "$bench" "$scaling_mesh" --methods dthex --subdivide "$k" --work-dir "$work/subdivided" --timeout "$timeout" \
-      --markdown --csv "$work/scaling_$k.csv" >"$work/scaling_$k.md" 2>&3 || status=$?; } 3>&2 2>>"$work/cpu"
-done
+scaling_section
 peer_section "$peers"
 finished=$(date -u '+%H:%M UTC')
 busy_after=$(machine_busy)
@@ -330,21 +408,8 @@ calculix=$(sed -n '/<!-- calculix-table:begin -->/,/<!-- calculix-table:end -->/
   echo
   cat "$work/bundled.md"
   echo
-  if [ -n "$scaling" ]; then
-    echo
-    echo "## Scaling with input size"
-    echo
-    echo "\`$scaling_mesh\` Loop-subdivided K times (4^K times the triangles), DTHex only"
-    echo "(\`$shown $scaling_mesh --methods dthex --subdivide K --markdown\`)."
-    echo "The bundled table above is K = 0."
-    for k in $scaling; do
-      echo
-      echo "### K = $k"
-      echo
-      cat "$work/scaling_$k.md"
-      echo
-    done
-  fi
+  echo
+  cat "$work/scaling.md"
   echo
   cat "$work/peers.md"
   [ -z "$calculix" ] || printf '\n%s\n' "$calculix"
