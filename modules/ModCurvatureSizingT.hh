@@ -93,10 +93,14 @@ double feature_line_radius(const Mesh& mesh, typename Mesh::VertexHandle v) {
 //! rho_P for every vertex (indexed by vertex idx): the smallest osculating radius over
 //! P's edges, infinity where every edge is tangent (planes). Deleted vertices get infinity.
 //! Where edges carry feature status, vertices on a feature line use feature_line_radius.
+//! Each vertex is independent of the others: with OpenMP, they are shared among the cores.
 template <class Mesh>
 std::vector<double> osculating_radii(const Mesh& mesh) {
   std::vector<double> rho(mesh.n_vertices(), std::numeric_limits<double>::infinity());
-  for (auto v : mesh.vertices()) {
+  const int count = int(mesh.n_vertices());
+#pragma omp parallel for schedule(static, 4096) if (count >= 65536)
+  for (int i = 0; i < count; ++i) {
+    const auto v = mesh.vertex_handle(unsigned(i));
     if (mesh.has_vertex_status() && mesh.status(v).deleted()) continue;
     if (mesh.has_edge_status()) {
       int feature_edges = 0;

@@ -184,6 +184,10 @@ DecimationCounts rough_pass(SurfaceMesh& mesh, const CoarsenOptions& options, do
     sizes[size_t(v.idx())] = mesh.property(size, v);
     mesh.property(size, v) *= fraction;
   }
+  // No vertex moves, and nothing reads the stored face normals: rather than keep them up to
+  // date through every collapse and swap, they are computed again at the end.
+  const bool face_normals = mesh.has_face_normals();
+  if (face_normals) mesh.release_face_normals();
   DecimationCounts out;
   {
     SweepDecimaterT<SurfaceMesh> decimater(mesh);
@@ -210,6 +214,10 @@ DecimationCounts rough_pass(SurfaceMesh& mesh, const CoarsenOptions& options, do
     if (options.edge_swap) out.swaps = decimater.module(swap).n_swaps();
   }
   for (auto v : mesh.vertices()) mesh.property(size, v) = sizes[size_t(v.idx())];
+  if (face_normals) {
+    mesh.request_face_normals();
+    mesh.update_face_normals();
+  }
   return out;
 }
 
