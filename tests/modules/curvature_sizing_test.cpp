@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <map>
+#include <set>
 
 using namespace dthex;
 
@@ -150,4 +151,28 @@ TEST(CurvatureSizing, GradationLimitsJumpsAndOnlyLowers) {
   EXPECT_DOUBLE_EQ(h[221], 0.1 + 0.5 * 0.5);  // neighbour at distance 0.5
   EXPECT_NEAR(h[0], 0.1 + 0.5 * std::sqrt(50.0), 1e-12);  // along the diagonal edges
   EXPECT_DOUBLE_EQ(h[20], 5.0);  // corner (10, 0): path length 10, 0.1 + 5 > 5, unchanged
+}
+
+TEST(CurvatureSizing, LargeMeshGetsEveryRadiusAtItsOwnVertex) {
+  // 163,842 vertices: above the size from which the radii are computed on all cores. Every
+  // vertex gets its own radius (about the sphere's), written at its own index:
+  // the radius of a vertex depends on its one-ring only, so a vertex moved far away changes
+  // its own radius and its neighbours' only.
+  SurfaceMesh mesh = icosphere(2.0, 7);
+  ASSERT_GE(mesh.n_vertices(), 65536u);
+  const std::vector<double> rho = osculating_radii(mesh);
+  ASSERT_EQ(rho.size(), mesh.n_vertices());
+  for (double r : rho) ASSERT_NEAR(r, 2.0, 0.1);
+  const auto moved = mesh.vertex_handle(100000);
+  mesh.set_point(moved, mesh.point(moved) * 1.01);
+  const std::vector<double> again = osculating_radii(mesh);
+  std::set<int> ring{moved.idx()};
+  for (auto q : mesh.vv_range(moved)) ring.insert(q.idx());
+  size_t changed = 0;
+  for (size_t v = 0; v < rho.size(); ++v) {
+    if (ring.count(int(v))) continue;
+    changed += again[v] != rho[v];
+  }
+  EXPECT_EQ(changed, 0u);
+  EXPECT_NE(again[size_t(moved.idx())], rho[size_t(moved.idx())]);
 }
