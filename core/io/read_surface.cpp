@@ -27,8 +27,7 @@ constexpr uint64_t kMaxCount = uint64_t(std::numeric_limits<int>::max());
 
 //! Refuses, before anything is allocated, a surface whose meshing could not fit in memory.
 void check_triangle_budget(const std::string& path, uint64_t triangles) {
-  check_memory_budget(path, "meshing " + std::to_string(triangles) + " triangles",
-                      triangles * kPipelineBytesPerInputTriangle);
+  check_memory_budget(path, "meshing " + std::to_string(triangles) + " triangles", pipeline_peak_bytes(triangles));
 }
 
 std::string at_line(size_t line) { return " (line " + std::to_string(line) + ")"; }

@@ -71,6 +71,10 @@ uint64_t available_memory_bytes() {
   return available;
 }
 
+uint64_t pipeline_peak_bytes(uint64_t triangles) {
+  return kPipelineFixedBytes + kPipelineBytesPerInputTriangle * triangles;
+}
+
 void check_memory_budget(const std::string& name, const std::string& what, uint64_t bytes_needed) {
   const uint64_t available = available_memory_bytes();
   if (bytes_needed <= available) return;
