@@ -2,8 +2,8 @@
 // A decimater that collapses in sweeps over the edges, shortest first, instead of keeping a
 // priority queue: for taking a very fine mesh most of the way down before a greedy decimater
 // (RevalidatingDecimaterT) does the rest. On a million-vertex mesh the queue's upkeep (every
-// collapse re-queues a dozen neighbours, and the heap grows with stale entries) costs more
-// than the collapses themselves; a sweep only sorts the edges once.
+// collapse re-queues a dozen neighbours, and the heap grows with stale entries) is a large
+// share of the time; a sweep only sorts the edges once.
 #pragma once
 
 #include <OpenMesh/Tools/Decimater/BaseDecimaterT.hh>

@@ -49,10 +49,11 @@ struct CoarsenOptions {
   //! order) but not in kind; smaller inputs gain too little time to be worth the cut.
   size_t split_from_vertices = 4000;
   //! Inputs with at least this many vertices are first decimated roughly (SweepDecimaterT):
-  //! only edges shorter than rough_pass_fraction of their size collapse, with swaps but without
-  //! smoothing, placement or the surface-normal test, so no vertex leaves the input and no
-  //! closest-point query is made; the full decimation then starts from far fewer vertices.
-  //! 0 never; below it the cost of the full decimation alone is small.
+  //! only edges shorter than rough_pass_fraction of their size collapse, with swaps and the
+  //! per-collapse bounds but without smoothing, placement or the surface-normal test, so no
+  //! vertex leaves the input and no closest-point query is made; the full decimation, with
+  //! every test, then starts from far fewer vertices. 0 never; below it the full decimation
+  //! alone is cheap enough.
   size_t rough_pass_from_vertices = 100000;
   //! See rough_pass_from_vertices: in (0, 1]. Smaller leaves more to the full decimation
   //! (slower, closer to its result alone).
