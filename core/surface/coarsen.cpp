@@ -172,6 +172,23 @@ struct DecimationCounts {
   size_t collapses = 0, swaps = 0, moves = 0, rough_collapses = 0;
 };
 
+// The collapse test's bounds and the edge swap's, as both decimations (the rough pass and the
+// full one) set them from the options.
+NormalizedLengthLimits length_limits_for(const CoarsenOptions& options) {
+  NormalizedLengthLimits limits;
+  limits.max_normalized_length = options.max_normalized_length;
+  limits.max_normal_deviation_deg = options.max_normal_deviation_deg;
+  limits.min_shape = options.min_shape;
+  return limits;
+}
+
+EdgeSwapOptions swap_options_for(const CoarsenOptions& options) {
+  EdgeSwapOptions swap_options;
+  swap_options.max_dihedral_deg = options.swap_max_dihedral_deg;
+  swap_options.max_normalized_length = options.max_normalized_length;
+  return swap_options;
+}
+
 //! The cheap first pass of CoarsenOptions::rough_pass_from_vertices on a mesh whose status and
 //! sizes are set: collapses only edges shorter than `fraction` of their size (the sizes are
 //! scaled by it meanwhile, so every bound of ModNormalizedLengthT holds at that scale), with
@@ -194,17 +211,10 @@ DecimationCounts rough_pass(SurfaceMesh& mesh, const CoarsenOptions& options, do
     ModNormalizedLengthT<SurfaceMesh>::Handle length;
     ModEdgeSwapT<SurfaceMesh>::Handle swap;
     decimater.add(length);
-    NormalizedLengthLimits limits;
-    limits.max_normalized_length = options.max_normalized_length;
-    limits.max_normal_deviation_deg = options.max_normal_deviation_deg;
-    limits.min_shape = options.min_shape;
-    decimater.module(length).set_limits(limits);
+    decimater.module(length).set_limits(length_limits_for(options));
     if (options.edge_swap) {
       decimater.add(swap);
-      EdgeSwapOptions swap_options;
-      swap_options.max_dihedral_deg = options.swap_max_dihedral_deg;
-      swap_options.max_normalized_length = options.max_normalized_length;
-      decimater.module(swap).set_options(swap_options);
+      decimater.module(swap).set_options(swap_options_for(options));
     }
     decimater.set_priority_estimate([&mesh, size](const ModNormalizedLengthT<SurfaceMesh>::CollapseInfo& ci) {
       return ModNormalizedLengthT<SurfaceMesh>::priority_estimate(mesh, size, ci);
@@ -243,20 +253,13 @@ DecimationCounts decimate_prepared(SurfaceMesh& mesh, const InputSurface& surfac
   decimater.add(sizing);
   decimater.module(sizing).set_compute_on_initialize(false);  // h is given
   decimater.add(length);
-  NormalizedLengthLimits limits;
-  limits.max_normalized_length = options.max_normalized_length;
-  limits.max_normal_deviation_deg = options.max_normal_deviation_deg;
-  limits.min_shape = options.min_shape;
-  decimater.module(length).set_limits(limits);
+  decimater.module(length).set_limits(length_limits_for(options));
   if (options.max_surface_deviation_deg < 180)
     decimater.module(length).set_surface_normal(
         [&surface](const Point& p, Point& n) { return surface.normal_at(p, n); }, options.max_surface_deviation_deg);
   if (options.edge_swap) {
     decimater.add(swap);
-    EdgeSwapOptions swap_options;
-    swap_options.max_dihedral_deg = options.swap_max_dihedral_deg;
-    swap_options.max_normalized_length = options.max_normalized_length;
-    decimater.module(swap).set_options(swap_options);
+    decimater.module(swap).set_options(swap_options_for(options));
   }
   if (options.local_smoothing) {
     decimater.add(smoothing);
