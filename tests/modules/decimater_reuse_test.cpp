@@ -11,6 +11,7 @@
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Tools/Decimater/DecimaterT.hh>
+#include "collapse_check_module.h"
 #include "icosphere.h"
 
 #include <gtest/gtest.h>
@@ -29,30 +30,6 @@ using AppMesh = OpenMesh::TriMesh_ArrayKernelT<AppTraits>;
 
 AppMesh app_icosphere(int levels) { return dthex_test::openmesh_icosphere<AppMesh>(levels); }
 
-//! Binary, always legal: just before each executed collapse (preprocess), asks the
-//! normalized-length module's own test and the topology test whether the collapse is
-//! allowed on the mesh as it is at that moment, and counts the ones that are not.
-template <class MeshT>
-class ModCheckT : public OpenMesh::Decimater::ModBaseT<MeshT> {
- public:
-  DECIMATING_MODULE(ModCheckT, MeshT, Check);
-  explicit ModCheckT(MeshT& mesh) : Base(mesh, true) {}
-  void initialize() override { Base::mesh().get_property_handle(size_, dthex::size_property_name()); }
-  float collapse_priority(const CollapseInfo&) override { return float(Base::LEGAL_COLLAPSE); }
-  void preprocess_collapse(const CollapseInfo& ci) override {
-    auto& m = Base::mesh();
-    ++executed;
-    const double l = dthex::normalized_length((ci.p1 - ci.p0).norm(), m.property(size_, ci.v1), m.property(size_, ci.v0));
-    const bool ok = l < 1.0 && m.is_collapse_ok(ci.v0v1) &&
-                    dthex::ModNormalizedLengthT<MeshT>::collapse_keeps_shape(m, ci, size_, dthex::NormalizedLengthLimits{});
-    if (!ok) ++rejected;
-  }
-  size_t executed = 0, rejected = 0;
-
- private:
-  OpenMesh::VPropHandleT<double> size_;
-};
-
 template <class Decimater>
 std::pair<size_t, size_t> run_with_check(AppMesh& mesh, bool callbacks, double eps, bool estimate = false) {
   mesh.request_vertex_status();
@@ -64,7 +41,7 @@ std::pair<size_t, size_t> run_with_check(AppMesh& mesh, bool callbacks, double e
   typename dthex::ModNormalizedLengthT<AppMesh>::Handle length;
   typename dthex::ModEdgeSwapT<AppMesh>::Handle swap;
   typename dthex::ModLocalSmoothingT<AppMesh>::Handle smoothing;
-  typename ModCheckT<AppMesh>::Handle check;
+  typename dthex_test::ModCollapseCheckT<AppMesh>::Handle check;
   decimater.add(sizing);
   dthex::CurvatureSizingOptions options;
   options.eps = eps;

@@ -7,6 +7,7 @@
 #include <dthex/modules/SweepDecimaterT.hh>
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include "collapse_check_module.h"
 #include "icosphere.h"
 
 #include <gtest/gtest.h>
@@ -33,29 +34,6 @@ SweepMesh sweep_icosphere(int levels) {
   return mesh;
 }
 
-//! Binary, always legal: asks, just before each executed collapse, the length module's own
-//! test and the topology test whether that collapse is allowed on the mesh as it is then.
-template <class MeshT>
-class ModSweepCheckT : public OpenMesh::Decimater::ModBaseT<MeshT> {
- public:
-  DECIMATING_MODULE(ModSweepCheckT, MeshT, SweepCheck);
-  explicit ModSweepCheckT(MeshT& mesh) : Base(mesh, true) {}
-  void initialize() override { Base::mesh().get_property_handle(size_, dthex::size_property_name()); }
-  float collapse_priority(const CollapseInfo&) override { return float(Base::LEGAL_COLLAPSE); }
-  void preprocess_collapse(const CollapseInfo& ci) override {
-    auto& m = Base::mesh();
-    ++executed;
-    const double l = dthex::normalized_length((ci.p1 - ci.p0).norm(), m.property(size_, ci.v1), m.property(size_, ci.v0));
-    const bool ok = l < 1.0 && m.is_collapse_ok(ci.v0v1) && !m.status(ci.v0).locked() &&
-                    dthex::ModNormalizedLengthT<MeshT>::collapse_keeps_shape(m, ci, size_, dthex::NormalizedLengthLimits{});
-    if (!ok) ++rejected;
-  }
-  size_t executed = 0, rejected = 0;
-
- private:
-  OpenMesh::VPropHandleT<double> size_;
-};
-
 //! Decimates `mesh` (sizes h everywhere) with the length and swap modules; returns the
 //! collapses made and those the check found illegal when they were made.
 template <class Decimater>
@@ -64,7 +42,7 @@ std::pair<size_t, size_t> decimate_with(SweepMesh& mesh, bool sweep_to_the_end) 
   Decimater decimater(mesh);
   typename dthex::ModNormalizedLengthT<SweepMesh>::Handle length;
   typename dthex::ModEdgeSwapT<SweepMesh>::Handle swap;
-  typename ModSweepCheckT<SweepMesh>::Handle check;
+  typename dthex_test::ModCollapseCheckT<SweepMesh>::Handle check;
   decimater.add(length);
   decimater.add(swap);
   decimater.add(check);
