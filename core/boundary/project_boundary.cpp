@@ -2,6 +2,7 @@
 #include <dthex/boundary/project_boundary.h>
 
 #include <dthex/boundary/relax_boundary_nodes.h>
+#include <dthex/mesh/hex_topology.h>
 #include <dthex/numerics/conjugate_gradient.h>
 
 #include <array>
@@ -15,8 +16,6 @@
 namespace dthex {
 namespace {
 
-constexpr int kHexEdges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
-                                  {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
 
 Vec3 unit_normal(const TriSurface& s, int t) {
   const auto& f = s.triangles[size_t(t)];

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/boundary/repair_boundary_folds.h>
 
+#include <dthex/mesh/hex_topology.h>
 #include <dthex/mesh/incidence.h>
 #include <dthex/mesh/quality.h>
 
@@ -15,8 +16,6 @@
 namespace dthex {
 namespace {
 
-constexpr int kHexEdges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
-                                  {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
 
 using Box = Eigen::AlignedBox3d;
 using Clock = std::chrono::steady_clock;

@@ -2,6 +2,7 @@
 #include <dthex/hexes/conformity.h>
 
 #include <dthex/hexes/boundary_overlap.h>
+#include <dthex/mesh/hex_topology.h>
 
 #include <algorithm>
 #include <cmath>
@@ -14,8 +15,6 @@ namespace dthex {
 namespace {
 
 // VTK hex faces as outward corner rings.
-constexpr int kHexFaces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
-                                 {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
 
 struct FaceUse {
   std::array<int, 4> key;  // sorted node ids
@@ -104,10 +103,6 @@ int find_root(std::vector<int>& parent, int x) {
   return x;
 }
 
-uint64_t edge_key(int a, int b) {
-  if (a > b) std::swap(a, b);
-  return (uint64_t(uint32_t(a)) << 32) | uint32_t(b);
-}
 
 
 // The faces used once, as outward rings in hex order, from the sorted face uses; the hex of
@@ -192,7 +187,7 @@ void check_boundary_surface(const HexMesh& mesh, const std::vector<std::array<in
   std::vector<EdgeUse> edges;
   edges.reserve(4 * quads.size());
   for (size_t q = 0; q < quads.size(); ++q)
-    for (int c = 0; c < 4; ++c) edges.push_back({edge_key(quads[q][size_t(c)], quads[q][size_t((c + 1) % 4)]), int(q), c});
+    for (int c = 0; c < 4; ++c) edges.push_back({undirected_edge_key(quads[q][size_t(c)], quads[q][size_t((c + 1) % 4)]), int(q), c});
   std::sort(edges.begin(), edges.end());
   // Fans: union the corner incidences (quad * 4 + corner) that meet across a shared edge.
   std::vector<int> parent(4 * quads.size());

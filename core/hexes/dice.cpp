@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/hexes/dice.h>
 
+#include <dthex/mesh/hex_topology.h>
+
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -11,11 +13,6 @@ namespace {
 // Parameter-cube position of each VTK hex corner.
 constexpr int kCornerPosition[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
                                        {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
-constexpr int kHexEdges[12][2] = {{0, 1}, {1, 2}, {3, 2}, {0, 3}, {4, 5}, {5, 6},
-                                  {7, 6}, {4, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
-// Faces as corner rings, outward oriented (VTK's hex faces).
-constexpr int kHexFaces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
-                                 {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
 
 int local_edge(int a, int b) {
   for (int e = 0; e < 12; ++e)

@@ -49,7 +49,7 @@ int side_of(const std::array<int, 8>& h, const std::array<int, 4>& quad) {
   std::sort(q.begin(), q.end());
   for (int s = 0; s < 6; ++s) {
     std::array<int, 4> f;
-    for (int i = 0; i < 4; ++i) f[size_t(i)] = h[size_t(kHexSideCornersOutward[size_t(s)][size_t(i)])];
+    for (int i = 0; i < 4; ++i) f[size_t(i)] = h[size_t(kHexFaces[size_t(s)][size_t(i)])];
     std::sort(f.begin(), f.end());
     if (f == q) return s;
   }
@@ -434,7 +434,7 @@ size_t name_parts_by_input(MeshSets& sets, const HexMesh& mesh, const TriSurface
     int hint = -1;
     for (const HexFace& f : set->faces) {
       Vec3 centre = Vec3::Zero();
-      for (int c : kHexSideCornersOutward[size_t(f.side)]) centre += mesh.nodes[size_t(mesh.hexes[size_t(f.hex)][size_t(c)])] / 4.0;
+      for (int c : kHexFaces[size_t(f.side)]) centre += mesh.nodes[size_t(mesh.hexes[size_t(f.hex)][size_t(c)])] / 4.0;
       const TriangleBvh::ClosestPoint cp = hint < 0 ? tree.closest_point(centre) : tree.closest_point_near(centre, hint);
       hint = cp.triangle;
       if (cp.triangle >= 0 && triangle_name[size_t(cp.triangle)] >= 0) ++votes[triangle_name[size_t(cp.triangle)]];
@@ -536,7 +536,7 @@ void add_user_sets(MeshSets& sets, const HexMesh& mesh, const std::vector<UserSe
     for (const HexFace& f : boundary) {
       std::array<int, 4> q;
       for (int i = 0; i < 4; ++i)
-        q[size_t(i)] = mesh.hexes[size_t(f.hex)][size_t(kHexSideCornersOutward[size_t(f.side)][size_t(i)])];
+        q[size_t(i)] = mesh.hexes[size_t(f.hex)][size_t(kHexFaces[size_t(f.side)][size_t(i)])];
       if (!std::all_of(q.begin(), q.end(), [&](int n) { return inside(mesh.nodes[size_t(n)]); })) continue;
       faces.faces.push_back(f);
       faces.area += quad_area(mesh, q);

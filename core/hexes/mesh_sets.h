@@ -6,6 +6,7 @@
 // surfaces (docs/METHOD.md section 8, Sets for the solver).
 #pragma once
 
+#include <dthex/mesh/hex_topology.h>
 #include <dthex/mesh/types.h>
 
 #include <array>
@@ -23,10 +24,6 @@ struct HexFace {
   bool operator==(const HexFace& o) const { return hex == o.hex && side == o.side; }
 };
 
-//! The corners of each side, ordered so that the face's normal (right-hand rule) points out of a
-//! positively oriented hex.
-constexpr std::array<std::array<int, 4>, 6> kHexSideCornersOutward = {{
-    {0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}}};
 
 struct HexSet {
   std::string name;

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/hexes/thex.h>
 
+#include <dthex/mesh/hex_topology.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cstdint>
@@ -27,10 +29,6 @@ Face sorted_face(int a, int b, int c) {
   return f;
 }
 
-uint64_t edge_key(int a, int b) {
-  if (a > b) std::swap(a, b);
-  return (uint64_t(uint32_t(a)) << 32) | uint32_t(b);
-}
 
 int first_vertex(uint64_t edge) { return int(edge >> 32); }
 int first_vertex(const Face& face) { return face[0]; }
@@ -93,7 +91,7 @@ HexMesh thex(const TetMesh& mesh) {
   for (size_t t = 0; t < n_tets; ++t) {
     const auto& v = mesh.tets[t];
     for (int e = 0; e < 6; ++e)
-      edge_entries[6 * t + size_t(e)] = {edge_key(v[size_t(kTetEdges[e][0])], v[size_t(kTetEdges[e][1])]),
+      edge_entries[6 * t + size_t(e)] = {undirected_edge_key(v[size_t(kTetEdges[e][0])], v[size_t(kTetEdges[e][1])]),
                                          int(6 * t) + e};
     for (int f = 0; f < 4; ++f)
       face_entries[4 * t + size_t(f)] = {sorted_face(v[size_t((f + 1) % 4)], v[size_t((f + 2) % 4)],
@@ -156,7 +154,7 @@ HexMesh thex(const TetMesh& mesh) {
         const int a = bf[size_t(k)], b = bf[size_t((k + 1) % 3)];
         int& corner = hex.boundary_facet[size_t(a)];
         if (corner < 0) corner = source;
-        int& midpoint = hex.boundary_facet[edge_base + size_t(find_key(edges, edge_key(a, b)))];
+        int& midpoint = hex.boundary_facet[edge_base + size_t(find_key(edges, undirected_edge_key(a, b)))];
         if (midpoint < 0) midpoint = source;
       }
     }

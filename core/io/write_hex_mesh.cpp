@@ -89,7 +89,7 @@ std::vector<int> part_of_hexes(const MeshSets& sets, size_t hex_count) {
 //! The four nodes of a face, in the order whose normal points out of its hex.
 std::array<int, 4> outward_face_nodes(const HexMesh& mesh, const HexFace& f) {
   const auto& hex = mesh.hexes[size_t(f.hex)];
-  const auto& corners = kHexSideCornersOutward[size_t(f.side)];
+  const auto& corners = kHexFaces[size_t(f.side)];
   return {hex[size_t(corners[0])], hex[size_t(corners[1])], hex[size_t(corners[2])], hex[size_t(corners[3])]};
 }
 

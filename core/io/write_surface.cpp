@@ -15,7 +15,7 @@ namespace {
 
 enum class SurfaceFormat { Off, Obj, Ply, Stl };
 
-const std::vector<std::pair<std::string, SurfaceFormat>>& extension_table() {
+const std::vector<std::pair<std::string, SurfaceFormat>>& surface_extension_table() {
   static const std::vector<std::pair<std::string, SurfaceFormat>> table = {
       {".off", SurfaceFormat::Off}, {".obj", SurfaceFormat::Obj}, {".ply", SurfaceFormat::Ply}, {".stl", SurfaceFormat::Stl}};
   return table;
@@ -24,7 +24,7 @@ const std::vector<std::pair<std::string, SurfaceFormat>>& extension_table() {
 SurfaceFormat surface_format_from_path(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  for (const auto& [known, format] : extension_table())
+  for (const auto& [known, format] : surface_extension_table())
     if (ext == known) return format;
   std::string supported;
   for (const auto& known : supported_surface_extensions()) supported += " " + known;
@@ -88,7 +88,7 @@ void write_stl(const TriSurface& surface, OutputFile& file) {
 
 std::vector<std::string> supported_surface_extensions() {
   std::vector<std::string> extensions;
-  for (const auto& entry : extension_table()) extensions.push_back(entry.first);
+  for (const auto& entry : surface_extension_table()) extensions.push_back(entry.first);
   return extensions;
 }
 

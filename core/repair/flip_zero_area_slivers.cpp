@@ -1,18 +1,14 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/repair/flip_zero_area_slivers.h>
 
+#include <dthex/mesh/hex_topology.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cstdint>
 #include <unordered_map>
 
 namespace dthex {
-
-namespace {
-
-uint64_t edge_key(int a, int b) { return uint64_t(std::min(a, b)) << 32 | uint64_t(std::max(a, b)); }
-
-}  // namespace
 
 bool has_zero_area(const Vec3& a, const Vec3& b, const Vec3& c) {
   const double longest_sq = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
@@ -39,7 +35,7 @@ FlipZeroAreaSliversReport flip_zero_area_slivers(TriSurface& surface, const Flip
   on_edge.reserve(T.size() * 2);
   for (size_t t = 0; t < T.size(); ++t)
     for (int k = 0; k < 3; ++k) {
-      auto [it, added] = on_edge.try_emplace(edge_key(T[t][size_t(k)], T[t][size_t((k + 1) % 3)]), std::array<int, 2>{int(t), -1});
+      auto [it, added] = on_edge.try_emplace(undirected_edge_key(T[t][size_t(k)], T[t][size_t((k + 1) % 3)]), std::array<int, 2>{int(t), -1});
       if (added) continue;
       if (it->second[1] >= 0) return report;
       it->second[1] = int(t);
@@ -47,11 +43,11 @@ FlipZeroAreaSliversReport flip_zero_area_slivers(TriSurface& surface, const Flip
   for (const auto& [key, pair] : on_edge)
     if (pair[1] < 0) return report;
   auto other = [&](int a, int b, int t) {
-    const auto& pair = on_edge.at(edge_key(a, b));
+    const auto& pair = on_edge.at(undirected_edge_key(a, b));
     return pair[0] == t ? pair[1] : pair[0];
   };
   auto replace = [&](int a, int b, int from, int to) {
-    auto& pair = on_edge.at(edge_key(a, b));
+    auto& pair = on_edge.at(undirected_edge_key(a, b));
     (pair[0] == from ? pair[0] : pair[1]) = to;
   };
   std::vector<char> flipped(T.size(), 0);
@@ -85,13 +81,13 @@ FlipZeroAreaSliversReport flip_zero_area_slivers(TriSurface& surface, const Flip
         if (across[size_t(i)] == b && across[size_t((i + 1) % 3)] == a) opposite = true;
       }
       const std::array<int, 3> first{c, a, d}, second{d, b, c};
-      if (!opposite || d == c || on_edge.count(edge_key(c, d)) || zero_area(first) || zero_area(second)) {
+      if (!opposite || d == c || on_edge.count(undirected_edge_key(c, d)) || zero_area(first) || zero_area(second)) {
         left.push_back(s);
         continue;
       }
       // Edges: ab goes, cd comes; ca stays on s, bc moves from s to n, ad moves from n to s.
-      on_edge.erase(edge_key(a, b));
-      on_edge[edge_key(c, d)] = {s, n};
+      on_edge.erase(undirected_edge_key(a, b));
+      on_edge[undirected_edge_key(c, d)] = {s, n};
       replace(b, c, s, n);
       replace(a, d, n, s);
       T[size_t(s)] = first;

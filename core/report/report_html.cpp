@@ -333,7 +333,7 @@ std::string stage_table(const PipelineResult& r) {
   return out.str();
 }
 
-std::string quality_row(const std::string& name, size_t count, const QualityStats& s) {
+std::string quality_html_row(const std::string& name, size_t count, const QualityStats& s) {
   std::ostringstream out;
   out << "<tr><td>" << escape_html(name) << "</td><td class=\"num\">" << count << "</td><td class=\"num\">"
       << number(s.avg) << "</td><td class=\"num\">" << number(s.std_dev) << "</td><td class=\"num\">" << number(s.min)
@@ -345,11 +345,11 @@ std::string quality_table(const PipelineResult& r, bool thex_only) {
   std::ostringstream out;
   out << "<table class=\"quality\"><thead><tr><th>quality (Verdict)</th><th>elements</th><th>avg</th><th>std</th>"
          "<th>min</th><th>max</th></tr></thead><tbody>\n";
-  out << quality_row("input triangles (shape)", r.input_summary.triangles, r.input_summary.shape);
-  if (!thex_only) out << quality_row("coarse triangles (shape)", r.coarse_summary.triangles, r.coarse_summary.shape);
-  out << quality_row("tets (shape)", r.tets, r.tet_shape);
-  out << quality_row("hexes (shape)", r.hexes.hexes.size(), r.quality.shape_stats);
-  out << quality_row("hexes (scaled Jacobian)", r.hexes.hexes.size(), r.quality.scaled_jacobian_stats);
+  out << quality_html_row("input triangles (shape)", r.input_summary.triangles, r.input_summary.shape);
+  if (!thex_only) out << quality_html_row("coarse triangles (shape)", r.coarse_summary.triangles, r.coarse_summary.shape);
+  out << quality_html_row("tets (shape)", r.tets, r.tet_shape);
+  out << quality_html_row("hexes (shape)", r.hexes.hexes.size(), r.quality.shape_stats);
+  out << quality_html_row("hexes (scaled Jacobian)", r.hexes.hexes.size(), r.quality.scaled_jacobian_stats);
   out << "</tbody></table>\n";
   return out.str();
 }

@@ -3,6 +3,7 @@
 
 #include <dthex/mesh/surface_mesh.h>
 #include <dthex/mesh/triangle_bvh.h>
+#include <dthex/numerics/signed_volume.h>
 #include <dthex/surface/split_in_halves.h>
 #include <dthex/surface/wall_thickness.h>
 
@@ -105,15 +106,11 @@ class ProgressObserver : public OpenMesh::Decimater::Observer {
   double total_, done_;
 };
 
-double orient(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-  return (b - a).cross(c - a).dot(d - a);
-}
-
 //! Does segment pq cross triangle abc (non-coplanar; touching counts)?
 bool segment_crosses_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const double dp = orient(a, b, c, p), dq = orient(a, b, c, q);
+  const double dp = signed_volume6(a, b, c, p), dq = signed_volume6(a, b, c, q);
   if ((dp > 0 && dq > 0) || (dp < 0 && dq < 0) || (dp == 0 && dq == 0)) return false;
-  const double s0 = orient(p, q, a, b), s1 = orient(p, q, b, c), s2 = orient(p, q, c, a);
+  const double s0 = signed_volume6(p, q, a, b), s1 = signed_volume6(p, q, b, c), s2 = signed_volume6(p, q, c, a);
   return (s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0);
 }
 

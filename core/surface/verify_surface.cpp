@@ -4,6 +4,7 @@
 #include <dthex/mesh/closest_triangle_pair.h>
 #include <dthex/mesh/half_edges.h>
 #include <dthex/mesh/triangle_bvh.h>
+#include <dthex/numerics/signed_volume.h>
 
 #include <algorithm>
 #include <cmath>
@@ -64,8 +65,6 @@ class Describe {
   const TriSurface& s_;
 };
 
-double orient(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) { return (b - a).cross(c - a).dot(d - a); }
-
 //! Closed 2D segment intersection (used for coplanar configurations).
 double orient2(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
   return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
@@ -98,7 +97,7 @@ bool point_in_triangle2(const Eigen::Vector2d& p, const Eigen::Vector2d& a, cons
 //! `where`, if given, receives a point they share (in the exactly coplanar case, one near it).
 bool segment_meets_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c,
                             Vec3* where = nullptr) {
-  const double dp = orient(a, b, c, p), dq = orient(a, b, c, q);
+  const double dp = signed_volume6(a, b, c, p), dq = signed_volume6(a, b, c, q);
   if ((dp > 0 && dq > 0) || (dp < 0 && dq < 0)) return false;
   const Vec3 n = (b - a).cross(c - a);
   int axis;

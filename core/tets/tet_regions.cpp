@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/tets/tet_regions.h>
 
+#include <dthex/numerics/signed_volume.h>
+
 #include <algorithm>
 #include <array>
 #include <cstring>
@@ -14,10 +16,6 @@ std::array<int, 3> sorted(std::array<int, 3> f) {
   return f;
 }
 
-double signed_volume6(const std::vector<Vec3>& p, int a, int b, int c, int d) {
-  const Vec3& pa = p[size_t(a)];
-  return (p[size_t(b)] - pa).cross(p[size_t(c)] - pa).dot(p[size_t(d)] - pa);
-}
 
 // Exact coordinates as a key: the interface points are copies of one point, never recomputed.
 using PointKey = std::array<uint64_t, 3>;
@@ -72,7 +70,8 @@ std::vector<TetMesh> split_tet_regions(const TetMesh& mesh) {
          ++it) {
       const size_t r = size_t(region_of(it->tet));
       std::array<int, 3> f = mesh.boundary_faces[i];
-      if (signed_volume6(mesh.points, f[0], f[1], f[2], it->opposite) > 0) std::swap(f[1], f[2]);
+      if (signed_volume6(mesh.points[size_t(f[0])], mesh.points[size_t(f[1])], mesh.points[size_t(f[2])],
+                         mesh.points[size_t(it->opposite)]) > 0) std::swap(f[1], f[2]);
       for (int& v : f) v = local[r][size_t(v)];
       out[r].boundary_faces.push_back(f);
       out[r].boundary_face_source.push_back(source);

@@ -3,6 +3,7 @@
 
 #include <dthex/mesh/closest_triangle_pair.h>
 #include <dthex/mesh/triangle_bvh.h>
+#include <dthex/numerics/signed_volume.h>
 #include <dthex/pipeline/memory_budget.h>
 
 #include <Eigen/Geometry>
@@ -392,12 +393,11 @@ void keep_material_tets(TetMesh& mesh, bool keep_nested) {
 
 //! Positive tets, outward boundary faces: checked against the geometry, not assumed.
 void orient(TetMesh& mesh) {
-  auto signed_volume6 = [&](int a, int b, int c, int d) {
-    const Vec3& pa = mesh.points[size_t(a)];
-    return (mesh.points[size_t(b)] - pa).cross(mesh.points[size_t(c)] - pa).dot(mesh.points[size_t(d)] - pa);
+  auto volume6 = [&](int a, int b, int c, int d) {
+    return signed_volume6(mesh.points[size_t(a)], mesh.points[size_t(b)], mesh.points[size_t(c)], mesh.points[size_t(d)]);
   };
   for (auto& t : mesh.tets)
-    if (signed_volume6(t[0], t[1], t[2], t[3]) < 0) std::swap(t[1], t[2]);
+    if (volume6(t[0], t[1], t[2], t[3]) < 0) std::swap(t[1], t[2]);
 
   // Each boundary face's tet, and the tet's corner opposite it.
   const std::vector<TetFace> faces = sorted_tet_faces(mesh);
@@ -408,7 +408,7 @@ void orient(TetMesh& mesh) {
     if (it == faces.end() || it->key != probe.key)
       throw MeshingError("tetrahedralize: TetGen returned a boundary face that is not a face of any tet");
     // Outward: the tet's opposite vertex lies behind the face.
-    if (signed_volume6(bf[0], bf[1], bf[2], it->opposite) > 0) std::swap(bf[1], bf[2]);
+    if (volume6(bf[0], bf[1], bf[2], it->opposite) > 0) std::swap(bf[1], bf[2]);
   }
 }
 

@@ -20,7 +20,7 @@ using dthex::testing::hex_block;
 namespace {
 
 Vec3 face_area_vector(const HexMesh& m, const HexFace& f) {
-  const auto& c = kHexSideCornersOutward[size_t(f.side)];
+  const auto& c = kHexFaces[size_t(f.side)];
   const auto& h = m.hexes[size_t(f.hex)];
   const Vec3 d0 = m.nodes[size_t(h[size_t(c[2])])] - m.nodes[size_t(h[size_t(c[0])])];
   const Vec3 d1 = m.nodes[size_t(h[size_t(c[3])])] - m.nodes[size_t(h[size_t(c[1])])];
@@ -68,7 +68,7 @@ TriSurface revolve(const std::vector<std::pair<double, double>>& profile, int se
 double largest_distance_from_plane(const HexMesh& m, const FaceSet& patch, const Vec3& point, const Vec3& normal) {
   double largest = 0;
   for (const HexFace& f : patch.faces)
-    for (int c : kHexSideCornersOutward[size_t(f.side)])
+    for (int c : kHexFaces[size_t(f.side)])
       largest = std::max(largest, std::abs((m.nodes[size_t(m.hexes[size_t(f.hex)][size_t(c)])] - point).dot(normal)));
   return largest;
 }
@@ -106,7 +106,7 @@ TEST(MeshSets, ABlockIsOnePartWithSixPatchesByArea) {
   // from its hex's centre, and no face is listed twice.
   std::set<std::pair<int, int>> seen;
   for (const HexFace& f : boundary.faces) {
-    const auto& c = kHexSideCornersOutward[size_t(f.side)];
+    const auto& c = kHexFaces[size_t(f.side)];
     Vec3 centre(0, 0, 0);
     for (int i : c) centre += m.nodes[size_t(m.hexes[size_t(f.hex)][size_t(i)])] / 4.0;
     EXPECT_GT(face_area_vector(m, f).dot(centre - hex_centre(m, f.hex)), 0) << f.hex << " S" << f.side + 1;

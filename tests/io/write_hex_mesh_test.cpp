@@ -516,7 +516,7 @@ std::vector<int> one_based(const std::array<int, 8>& hex) {
 
 std::vector<int> outward_nodes_one_based(const HexMesh& mesh, const dthex::HexFace& f) {
   std::vector<int> ids;
-  for (int c : dthex::kHexSideCornersOutward[size_t(f.side)]) ids.push_back(mesh.hexes[size_t(f.hex)][size_t(c)] + 1);
+  for (int c : dthex::kHexFaces[size_t(f.side)]) ids.push_back(mesh.hexes[size_t(f.hex)][size_t(c)] + 1);
   return ids;
 }
 
