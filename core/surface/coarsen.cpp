@@ -381,6 +381,9 @@ size_t cap_by_wall_thickness(const TriSurface& input, const SurfaceMesh& input_m
   const std::vector<double> radius = inner_wall_radii(input, input_bvh, start);
   size_t thin = 0;
   for (size_t v = 0; v < h.size(); ++v) {
+    // An empty starting ball is no thin wall: its radius came back unchanged, and
+    // 2 x ratio x (h / (2 x ratio)) can round below h when ratio is not a power of two.
+    if (!(radius[v] < start[v])) continue;
     const double cap = std::max(h_min, 2 * ratio * radius[v]);
     if (!(cap < h[v])) continue;
     ++thin;

@@ -278,3 +278,14 @@ TEST(WallThickness, MembraneIsMeshedOnceSizedByThicknessWithFewNodesAndSoundHexe
   EXPECT_NEAR(mesh.hex_volume, mesh.input_summary.volume, 0.03 * mesh.input_summary.volume);
   EXPECT_LT(3 * mesh.hexes.nodes.size(), thex.hexes.nodes.size());
 }
+
+TEST(WallThickness, ASphereIsNoThinWallAtAnyRatio) {
+  // A sphere's wall is its diameter, far above its curvature size: no vertex is thin at any
+  // ratio, also where h / (2 ratio) x 2 ratio rounds below h (ratios 3, 5, 1.25).
+  const TriSurface sphere = read_surface(std::string(DTHEX_SOURCE_DIR) + "/meshes/sphere728.off");
+  for (double ratio : {1.0, 1.25, 2.0, 3.0, 5.0}) {
+    CoarsenOptions options;
+    options.max_size_per_thickness = ratio;
+    EXPECT_EQ(count_thin_wall_vertices(sphere, options), 0u) << "ratio " << ratio;
+  }
+}
