@@ -38,6 +38,19 @@ double tet_shape(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3)
   return num / den;
 }
 
+double tet_scaled_jacobian(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3) {
+  const Vec3 e01 = p1 - p0, e02 = p2 - p0, e03 = p3 - p0, e12 = p2 - p1, e13 = p3 - p1, e23 = p3 - p2;
+  const double jacobian = e01.cross(e02).dot(e03);
+  const double l01 = e01.squaredNorm(), l02 = e02.squaredNorm(), l03 = e03.squaredNorm(), l12 = e12.squaredNorm(),
+               l13 = e13.squaredNorm(), l23 = e23.squaredNorm();
+  // The largest product of the squared lengths of the three edges at a corner.
+  const double largest = std::max({l01 * l02 * l03, l01 * l12 * l13, l02 * l12 * l23, l03 * l13 * l23});
+  double product = std::sqrt(largest);
+  if (product < std::abs(jacobian)) product = std::abs(jacobian);
+  if (product < kVerdictDblMin) return 0.0;
+  return std::sqrt(2.0) * jacobian / product;
+}
+
 namespace {
 
 // The frames of a hex (its 8 corners, or some of them, and the centre), their determinants

@@ -15,6 +15,10 @@ namespace dthex {
 double triangle_shape(const Vec3& a, const Vec3& b, const Vec3& c);
 //! Verdict tet shape: 1 regular, 0 degenerate or inverted.
 double tet_shape(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+//! Verdict tet scaled Jacobian: sqrt 2 det(b - a, c - a, d - a) over the largest product of
+//! the three edge lengths at a corner; 1 regular, 0 flat, negative inverted. THex gives each
+//! tet corner a hex corner with the same three edges, so it bounds those hexes as they start.
+double tet_scaled_jacobian(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 //! Verdict hex shape: min over the 8 corners of 3 det(A)^(2/3) / |A|_F^2; 0 if any corner is inverted.
 double hex_shape(const std::array<Vec3, 8>& corners);
 //! Verdict hex scaled Jacobian: min over the 8 corners and the centre of

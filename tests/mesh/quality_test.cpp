@@ -127,6 +127,22 @@ TEST(Quality, TetShapes) {
   EXPECT_NEAR(q.scaled_jacobian_stats.min, std::sqrt(0.5), 1e-12);
 }
 
+TEST(Quality, TetScaledJacobians) {
+  // Verdict's values: regular 1, the right-corner tet 1/sqrt 2 (its worst corner is not the
+  // right angle), mirrored -1 and -1/sqrt 2, flat 0.
+  const TetMesh regular = fixtures::regular_tet();
+  const auto& t = regular.tets[0];
+  const auto p = [&](int i) { return regular.points[size_t(t[size_t(i)])]; };
+  EXPECT_NEAR(tet_scaled_jacobian(p(0), p(1), p(2), p(3)), 1.0, 1e-12);
+  EXPECT_NEAR(tet_scaled_jacobian(p(0), p(2), p(1), p(3)), -1.0, 1e-12);
+  EXPECT_NEAR(tet_scaled_jacobian(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)), std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(tet_scaled_jacobian(Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(1, 0, 0), Vec3(0, 0, 1)), -std::sqrt(0.5), 1e-12);
+  EXPECT_EQ(tet_scaled_jacobian(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0)), 0.0);
+  // Scale-free.
+  EXPECT_NEAR(tet_scaled_jacobian(Vec3(0, 0, 0), Vec3(1e-6, 0, 0), Vec3(0, 1e-6, 0), Vec3(0, 0, 1e-6)), std::sqrt(0.5),
+              1e-12);
+}
+
 TEST(Quality, AgreesWithTheReferee) {
   const std::string script = DTHEX_SHARED_DIR "/tools/hexeval.py";
   if (!std::filesystem::exists(script)) GTEST_SKIP() << script << " is absent";
