@@ -17,6 +17,7 @@
 #include <dthex/tet_edits/flip_three_tet_edges.h>
 #include <dthex/tet_edits/flip_worst_tets.h>
 #include <dthex/tet_edits/remove_boundary_edges.h>
+#include <dthex/tet_edits/split_crowded_vertices.h>
 #include <dthex/tets/refine_flat_needles.h>
 #include <dthex/tets/relax_interior_points.h>
 #include <dthex/tets/split_surface_tets.h>
@@ -163,9 +164,9 @@ struct ThinWallPredictionReport {
 using StageReport =
     std::variant<ReadReport, SurfaceSummary, RemeshStageReport, ThinWallReport, ChooseEpsReport, CoarsenStageReport,
                  TetrahedralizeReport, BoundaryEdgesReport, FlipThreeTetEdgesReport, CollapseInteriorVerticesReport,
-                 SplitSurfaceTetsReport, FlipWorstTetsReport, RelaxInteriorPointsReport, HexCountReport, ProjectReport,
-                 UntangleReport, LocalSmoothReport, RepairWorstStageReport, RepairBoundaryFoldsReport, MeasureReport,
-                 MeshTryReport, ThinWallPredictionReport>;
+                 SplitSurfaceTetsReport, FlipWorstTetsReport, RelaxInteriorPointsReport, SplitCrowdedVerticesReport,
+                 HexCountReport, ProjectReport, UntangleReport, LocalSmoothReport, RepairWorstStageReport,
+                 RepairBoundaryFoldsReport, MeasureReport, MeshTryReport, ThinWallPredictionReport>;
 
 struct StageRecord {
   std::string name;

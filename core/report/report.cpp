@@ -174,6 +174,12 @@ std::string text(const RelaxInteriorPointsReport& r) {
   return out.str();
 }
 
+std::string text(const SplitCrowdedVerticesReport& r) {
+  return count_text("crowded interior vertices split", r.split) + ", most tets at an interior vertex " +
+         std::to_string(r.most_tets_before) + " -> " + std::to_string(r.most_tets_after) + ", " +
+         count_text("tets", r.tets_after);
+}
+
 std::string text(const HexCountReport& r) { return count_text("hexes", r.hexes); }
 
 std::string text(const ProjectReport& r) {
@@ -357,6 +363,16 @@ json fields(const FlipWorstTetsReport& r) {
 
 json fields(const RelaxInteriorPointsReport& r) {
   return {{"moved", r.moved}, {"worst_before", r.worst_before}, {"worst_after", r.worst_after}};
+}
+
+json fields(const SplitCrowdedVerticesReport& r) {
+  return {{"split", r.split},
+          {"crowded_before", r.crowded_before},
+          {"crowded_after", r.crowded_after},
+          {"most_tets_before", r.most_tets_before},
+          {"most_tets_after", r.most_tets_after},
+          {"tets_before", r.tets_before},
+          {"tets_after", r.tets_after}};
 }
 
 json fields(const HexCountReport& r) { return {{"hexes", r.hexes}}; }

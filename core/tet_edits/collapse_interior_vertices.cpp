@@ -78,6 +78,8 @@ CollapseInteriorVerticesReport collapse_interior_vertices(TetMesh& mesh, const C
           moved.push_back(x);
         }
         if (!ok || removed.empty()) continue;
+        const int cap = on_boundary[size_t(w)] ? options.max_tets_at_kept_vertex / 2 : options.max_tets_at_kept_vertex;
+        if (tets.tets_of(w).size() - removed.size() + moved.size() > size_t(cap)) continue;
         best = worst;
         best_w = w;
         best_tets = std::move(moved);

@@ -4,7 +4,9 @@
 // and no worse in Verdict shape than the worst tet around it now. The tets around the
 // contracted edge vanish: about 32 nodes per tet after THex and dice 2, plus the vertex. It
 // keeps the rule of split_surface_tets: no new edge between two boundary vertices, no new
-// interior face of three. Boundary vertices never move, so the boundary stays as it was.
+// interior face of three; and it crowds no vertex: the neighbour kept may not end in more tets
+// than THex's hex corners there can share well. Boundary vertices never move, so the boundary
+// stays as it was.
 #pragma once
 
 #include <dthex/mesh/types.h>
@@ -15,6 +17,10 @@ struct CollapseInteriorVerticesOptions {
   //! A contraction is taken when the worst new tet has at least this fraction of the shape
   //! of the worst tet around the vertex (1: the local worst never falls).
   double min_shape_ratio = 1.0;
+  //! Nor when the neighbour would then be in more tets than this (half as many for a boundary
+  //! neighbour, whose tets fill half the sphere around it): every tet at a vertex gives THex
+  //! a hex corner there, and the more share it, the narrower they are (split_crowded_vertices.h).
+  int max_tets_at_kept_vertex = 40;
   int max_passes = 5;
 };
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Small procedural meshes for the projection and untangling tests: a structured hex block,
-// a subdivided box surface, the tets of a star-shaped surface around its centre (the paper's
-// sphere case), and labelling of boundary nodes with their coarse facet.
+// a subdivided box surface, a banded sphere, the tets of a star-shaped surface around its centre
+// (the paper's sphere case), and labelling of boundary nodes with their coarse facet.
 #pragma once
 
 #include <dthex/mesh/triangle_bvh.h>
@@ -111,6 +111,38 @@ inline void label_boundary(HexMesh& m, const TriSurface& coarse) {
       }
     }
   }
+}
+
+//! A unit sphere of `around` x `rings` bands (a pole at each end, alternate rings turned by half a
+//! step so the triangles are even), outward.
+inline TriSurface staggered_sphere(int around, int rings) {
+  TriSurface s;
+  s.points.push_back(Vec3(0, 0, 1));
+  for (int j = 1; j < rings; ++j)
+    for (int i = 0; i < around; ++i) {
+      const double theta = M_PI * j / rings, phi = 2 * M_PI * (i + 0.5 * (j % 2)) / around;
+      s.points.push_back(Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)));
+    }
+  s.points.push_back(Vec3(0, 0, -1));
+  const int south = int(s.points.size()) - 1;
+  auto id = [&](int j, int i) { return 1 + (j - 1) * around + i % around; };
+  for (int i = 0; i < around; ++i) s.triangles.push_back({0, id(1, i), id(1, i + 1)});
+  for (int j = 1; j < rings - 1; ++j)
+    for (int i = 0; i < around; ++i) {
+      if (j % 2) {
+        s.triangles.push_back({id(j, i), id(j + 1, i), id(j + 1, i + 1)});
+        s.triangles.push_back({id(j, i), id(j + 1, i + 1), id(j, i + 1)});
+      } else {
+        s.triangles.push_back({id(j, i), id(j + 1, i), id(j, i + 1)});
+        s.triangles.push_back({id(j, i + 1), id(j + 1, i), id(j + 1, i + 1)});
+      }
+    }
+  for (int i = 0; i < around; ++i) s.triangles.push_back({south, id(rings - 1, i + 1), id(rings - 1, i)});
+  for (auto& t : s.triangles) {
+    const Vec3 &a = s.points[size_t(t[0])], &b = s.points[size_t(t[1])], &c = s.points[size_t(t[2])];
+    if ((b - a).cross(c - a).dot(a + b + c) < 0) std::swap(t[1], t[2]);
+  }
+  return s;
 }
 
 //! The tets of a star-shaped closed surface around `centre` (one per triangle), positively

@@ -57,6 +57,21 @@ TEST(CollapseInteriorVertices, TetrahedronWithTwoInteriorPointsBecomesOneTet) {
   EXPECT_EQ(m.boundary_face_source, (std::vector<int>{0, 1, 2, 3}));
 }
 
+// With a kept neighbour allowed no more than 3 tets (a boundary corner 1), neither point can go,
+// where without the bound both do (the test above): merging v into u leaves u in 4 tets, u into
+// v leaves v in 4, and either into a corner leaves the corner in more than 1.
+TEST(CollapseInteriorVertices, NoNeighbourIsCrowdedPastTheBound) {
+  TetMesh m = tetrahedron_with_two_interior_points();
+  const double volume = total_volume(m);
+  CollapseInteriorVerticesOptions options;
+  options.max_tets_at_kept_vertex = 3;
+  const CollapseInteriorVerticesReport report = collapse_interior_vertices(m, options);
+  EXPECT_EQ(report.collapsed, 0u);
+  EXPECT_EQ(m.tets.size(), 7u);
+  EXPECT_EQ(m.points.size(), 6u);
+  expect_valid(m, volume);
+}
+
 // Asked for new tets ten times better than the worst they replace, nothing is merged; and
 // where every neighbour is a boundary vertex (the fixture's r0) every merge would make an
 // interior face of three boundary vertices or an inverted tet.
