@@ -54,6 +54,7 @@ class NodeSmoother {
     report.min_scaled_jacobian_before = min_sj();
     report.avg_shape_before = avg_shape();
     raise_worst(report);
+    if (!report.time_limit_reached) lift_worst(report);
     if (!report.time_limit_reached) improve_shapes(report);
     // The shape sweeps changed the neighbourhoods of the hexes still below the target:
     // some of them can now move further.
@@ -126,6 +127,27 @@ class NodeSmoother {
           if (sj_[size_t(g)] < target) queue.push({sj_[size_t(g)], g});
         }
       }
+    }
+  }
+
+  // The target raised a step at a time (LocalSmoothOptions::lift_to_scaled_jacobian), each
+  // step a pass over the hexes below it, until a step raises the minimum no further. The target
+  // stays at the last step: the shape sweeps then keep every hex at or above min(its value,
+  // that step), so they do not undo what was lifted.
+  void lift_worst(LocalSmoothReport& report) {
+    const double step = options_.lift_step;
+    if (!(step > 0)) return;
+    // Where the pass to the target fell short, a higher one would not be reached either.
+    if (min_sj() < options_.target_scaled_jacobian - 0.5 * step) return;
+    const double start = options_.target_scaled_jacobian;
+    for (int k = 1; start + k * step <= options_.lift_to_scaled_jacobian + 1e-12 && !report.time_limit_reached; ++k) {
+      const double level = start + k * step;
+      if (min_sj() >= level) continue;  // already there
+      const double before = min_sj();
+      options_.target_scaled_jacobian = level;
+      raise_worst(report);
+      report.lifted_to = level;
+      if (min_sj() < before + 1e-4) return;
     }
   }
 

@@ -17,6 +17,13 @@ struct LocalSmoothOptions {
   //! Nodes of hexes whose scaled Jacobian is below this move; a node stops improving once
   //! every hex around it reaches it.
   double target_scaled_jacobian = 0.3;
+  //! After the pass to the target, the worst hexes are lifted further before the shape
+  //! sweeps: the target rises by `lift_step` at a time up to `lift_to_scaled_jacobian`, each
+  //! step a pass over the hexes below it, until a step raises the minimum no further. A lift
+  //! costs some average shape (the sweeps that follow keep the lifted hexes) and time in
+  //! proportion to the hexes below the steps; lift_step 0 leaves the minimum at the target.
+  double lift_to_scaled_jacobian = 0.4;
+  double lift_step = 0.05;
   //! Hexes below the target are taken worst first from a queue; each at most this often.
   //! More attempts lift stubborn hexes further at the cost of a few seconds.
   int max_attempts_per_hex = 20;
@@ -27,7 +34,7 @@ struct LocalSmoothOptions {
   size_t attempt_budget_hexes = 1000;
   //! Shape sweeps after the scaled-Jacobian sweeps: nodes of hexes whose shape is below
   //! `shape_threshold` move to raise the mean shape of their hexes, never letting the
-  //! smallest scaled Jacobian around them drop below min(its value, target).
+  //! smallest scaled Jacobian around them drop below min(its value, the target reached).
   int shape_sweeps = 3;
   double shape_threshold = 0.7;
   //! A shape-sweep node first tries one cheap guess (the mean of its edge neighbours, then
@@ -67,6 +74,7 @@ struct LocalSmoothOptions {
 
 struct LocalSmoothReport {
   double min_scaled_jacobian_before = 0, min_scaled_jacobian_after = 0;
+  double lifted_to = 0;  //!< the last step of the lift (0: it did not run)
   double avg_shape_before = 0, avg_shape_after = 0;
   size_t moves = 0;
   int sweeps = 0;  //!< queue entries taken plus shape sweeps

@@ -548,7 +548,10 @@ void smooth_and_repair_worst(Meshing& m, const NodeConstraints& constraints) {
     smooth_options.time_limit_seconds = options.time_limit_seconds;
     smooth_options.constraints = &constraints;
     smooth_options.knife_edge_slide = options.knife_edge_slide;
-    if (options.min_dihedral_deg > 0) smooth_options.target_scaled_jacobian = kLiftedTargetScaledJacobian;
+    if (options.min_dihedral_deg > 0) {
+      smooth_options.target_scaled_jacobian = kLiftedTargetScaledJacobian;
+      smooth_options.lift_to_scaled_jacobian = kLiftedTargetScaledJacobian + 0.1;
+    }
     return smooth_worst_hexes(m.result.hexes, m.input_bvh, smooth_options);
   });
   RepairWorstHexesOptions repair_options;
