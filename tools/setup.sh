@@ -8,7 +8,7 @@ packages=(
   build-essential cmake pkg-config
   libopenmesh-dev libtet1.5-dev tetgen libeigen3-dev libgtest-dev
   libcli11-dev nlohmann-json3-dev libexodusii-dev libjemalloc-dev calculix-ccx
-  python3 python3-vtk9 python3-numpy python3-scipy python3-meshio python3-netcdf4
+  python3 python3-vtk9 python3-numpy python3-scipy python3-meshio python3-netcdf4 python3-gmsh
   clang libclang-rt-14-dev
   chromium
 )
