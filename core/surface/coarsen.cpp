@@ -3,7 +3,7 @@
 
 #include <dthex/mesh/surface_mesh.h>
 #include <dthex/mesh/triangle_bvh.h>
-#include <dthex/numerics/signed_volume.h>
+#include <dthex/mesh/triangle_crossing.h>
 #include <dthex/surface/split_in_halves.h>
 #include <dthex/surface/wall_thickness.h>
 
@@ -106,14 +106,6 @@ class ProgressObserver : public OpenMesh::Decimater::Observer {
   double total_, done_;
 };
 
-//! Does segment pq cross triangle abc (non-coplanar; touching counts)?
-bool segment_crosses_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const double dp = signed_volume6(a, b, c, p), dq = signed_volume6(a, b, c, q);
-  if ((dp > 0 && dq > 0) || (dp < 0 && dq < 0) || (dp == 0 && dq == 0)) return false;
-  const double s0 = signed_volume6(p, q, a, b), s1 = signed_volume6(p, q, b, c), s2 = signed_volume6(p, q, c, a);
-  return (s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0);
-}
-
 bool triangles_intersect(const TriSurface& s, int fa, int fb) {
   const auto& ta = s.triangles[size_t(fa)];
   const auto& tb = s.triangles[size_t(fb)];
@@ -141,13 +133,7 @@ bool triangles_intersect(const TriSurface& s, int fa, int fb) {
     return segment_crosses_triangle(P(ea[0]), P(ea[1]), P(tb[0]), P(tb[1]), P(tb[2])) ||
            segment_crosses_triangle(P(eb[0]), P(eb[1]), P(ta[0]), P(ta[1]), P(ta[2]));
   }
-  for (int k = 0; k < 3; ++k) {
-    if (segment_crosses_triangle(P(ta[size_t(k)]), P(ta[size_t((k + 1) % 3)]), P(tb[0]), P(tb[1]), P(tb[2])))
-      return true;
-    if (segment_crosses_triangle(P(tb[size_t(k)]), P(tb[size_t((k + 1) % 3)]), P(ta[0]), P(ta[1]), P(ta[2])))
-      return true;
-  }
-  return false;
+  return triangles_cross({P(ta[0]), P(ta[1]), P(ta[2])}, {P(tb[0]), P(tb[1]), P(tb[2])});
 }
 
 double bbox_diagonal(const TriSurface& s) {
