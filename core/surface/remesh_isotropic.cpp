@@ -8,6 +8,7 @@
 
 #include <dthex/mesh/surface_mesh.h>
 #include <dthex/mesh/triangle_bvh.h>
+#include <dthex/mesh/triangle_crossing.h>
 #include <dthex/surface/features.h>
 #include <dthex/surface/wall_thickness.h>
 
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <iterator>
 #include <memory>
+#include <optional>
 
 namespace dthex {
 
@@ -52,9 +54,11 @@ class Remesher {
  public:
   Remesher(const TriSurface& input, const TriangleBvh& input_bvh, const RemeshIsotropicOptions& options,
            double edge_length)
-      : input_bvh_(input_bvh), options_(options), length_(edge_length) {
+      : input_(input), input_bvh_(input_bvh), options_(options), length_(edge_length) {
     fill_openmesh(mesh_, input);  // not mesh_ = to_openmesh(input): that copies it
     mark_features(mesh_, options.feature_angle_deg);
+    mesh_.add_property(off_input_);
+    for (auto v : mesh_.vertices()) mesh_.property(off_input_, v) = false;
     // The input's feature lines as zero-area triangles (a, b, b): the tree's closest point
     // on them is the closest point on the segments.
     std::vector<std::array<int, 3>> segments;
@@ -77,11 +81,14 @@ class Remesher {
       if (size_t(std::distance(live.begin(), live.end())) > most_triangles) return false;
       if (options_.progress) options_.progress(double(round + 1) / options_.rounds);
     }
+    put_back_on_input();
     mesh_.garbage_collection();
     return true;
   }
 
   TriSurface result() const { return from_openmesh(mesh_); }
+  size_t refused_crossings() const { return refused_crossings_; }
+  size_t off_input_vertices() const { return off_input_vertices_; }
 
  private:
   Vec3 point(VH v) const { return to_eigen(mesh_.point(v)); }
@@ -103,6 +110,10 @@ class Remesher {
     return length > 0 ? Vec3(sum / length) : Vec3::Zero();
   }
 
+  // An edge longer than 4/3 L is split at its midpoint, put on the input. Where the point on
+  // the input would make a triangle of zero area, turned over or through the other side of a
+  // thin wall (acceptable), the midpoint stays on the chord, its triangles halves of the two
+  // split, and the relaxation puts it on the input when it can.
   void split_long_edges() {
     const double high = 4.0 / 3.0 * length_;
     const size_t n = mesh_.n_edges();  // the new edges are short enough
@@ -113,15 +124,31 @@ class Remesher {
       const VH a = mesh_.from_vertex_handle(h), b = mesh_.to_vertex_handle(h);
       if ((point(a) - point(b)).norm() <= high) continue;
       const bool feature = is_feature(e);
-      const VH m = mesh_.add_vertex(to_openmesh(0.5 * (point(a) + point(b))));
+      const Vec3 middle = 0.5 * (point(a) + point(b));
+      // The two triangles' area-weighted normal: the new vertex's once it is split in.
+      const FH f0 = mesh_.face_handle(h), f1 = mesh_.face_handle(mesh_.opposite_halfedge_handle(h));
+      Vec3 to = on_input(middle, (face_cross(f0) + face_cross(f1)).normalized(), feature).value_or(middle);
+      // Each triangle (p, q, c) of the edge p-q becomes (p, m, c) and (m, q, c).
+      std::vector<std::array<Vec3, 3>> made;
+      std::vector<Vec3> was;
+      for (HH side : {h, mesh_.opposite_halfedge_handle(h)}) {
+        const Vec3 p = point(mesh_.from_vertex_handle(side)), q = point(mesh_.to_vertex_handle(side));
+        const Vec3 c = point(mesh_.to_vertex_handle(mesh_.next_halfedge_handle(side)));
+        made.push_back({p, to, c});
+        made.push_back({to, q, c});
+        was.push_back(face_normal(mesh_.face_handle(side)));
+        was.push_back(was.back());
+      }
+      if (to != middle && !acceptable(made, was)) to = middle;
+      const VH m = mesh_.add_vertex(to_openmesh(to));
       mesh_.split(e, m);
       mesh_.status(m).set_feature(feature);
+      mesh_.property(off_input_, m) = to == middle;
       if (feature)
         for (auto vh : mesh_.voh_range(m)) {
           const VH other = mesh_.to_vertex_handle(vh);
           if (other == a || other == b) mesh_.status(mesh_.edge_handle(vh)).set_feature(true);
         }
-      put_on_input(m);
     }
   }
 
@@ -137,15 +164,14 @@ class Remesher {
     for (auto w : mesh_.vv_range(v0))
       if ((point(w) - p1).norm() > high) return false;
     const FH left = mesh_.face_handle(h), right = mesh_.face_handle(mesh_.opposite_halfedge_handle(h));
+    std::vector<std::array<Vec3, 3>> made;
+    std::vector<Vec3> was;
     for (auto f : mesh_.vf_range(v0)) {
       if (f == left || f == right) continue;
-      std::array<Vec3, 3> corners;
-      int k = 0;
-      for (auto v : mesh_.fv_range(f)) corners[size_t(k++)] = v == v0 ? p1 : point(v);
-      const Vec3 n = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
-      if (n.norm() <= 0 || n.normalized().dot(face_normal(f)) < kKeepFacingCos) return false;
+      made.push_back(corners_with(f, v0, p1));
+      was.push_back(face_normal(f));
     }
-    return true;
+    return acceptable(made, was);
   }
 
   void collapse_short_edges() {
@@ -200,6 +226,7 @@ class Remesher {
       const Vec3 mean = (n0 + n1).normalized();
       if (m0.norm() <= 0 || m1.norm() <= 0) continue;
       if (m0.normalized().dot(mean) < kKeepFacingCos || m1.normalized().dot(mean) < kKeepFacingCos) continue;
+      if (crosses_other_side({point(b), point(c), point(d)}) || crosses_other_side({point(a), point(d), point(c)})) continue;
       mesh_.flip(e);
     }
   }
@@ -236,37 +263,112 @@ class Remesher {
     }
     for (auto v : mesh_.vertices()) {
       if (!move[size_t(v.idx())]) continue;
-      std::vector<std::pair<FH, Vec3>> before;
-      for (auto f : mesh_.vf_range(v)) before.emplace_back(f, face_normal(f));
+      // On the input with the normal of the fan moved there.
       const auto old = mesh_.point(v);
-      mesh_.set_point(v, to_openmesh(target[size_t(v.idx())]));
-      put_on_input(v);
-      bool folded = false;
-      for (const auto& [f, n] : before) {
-        const Vec3 now = to_eigen(mesh_.calc_face_normal(f));
-        if (!(now.norm() > 0.5) || now.dot(n) < kKeepFacingCos) folded = true;
+      const Vec3 moved = target[size_t(v.idx())];
+      mesh_.set_point(v, to_openmesh(moved));
+      const std::optional<Vec3> on = on_input(moved, vertex_normal(v), is_feature(v));
+      mesh_.set_point(v, old);
+      const Vec3 to = on.value_or(moved);
+      std::vector<std::array<Vec3, 3>> made;
+      std::vector<Vec3> was;
+      for (auto f : mesh_.vf_range(v)) {
+        made.push_back(corners_with(f, v, to));
+        was.push_back(face_normal(f));
       }
-      if (folded) mesh_.set_point(v, old);
+      if (!acceptable(made, was)) continue;
+      mesh_.set_point(v, to_openmesh(to));
+      mesh_.property(off_input_, v) = !on;
     }
   }
 
-  // A vertex of a feature line goes to the nearest point of the input's feature lines, any
-  // other to the nearest point of the input's triangles that face its way (if none is within
-  // an edge length, it stays, and the fold test of its move decides).
-  void put_on_input(VH v) {
-    const Vec3 p = point(v);
-    if (is_feature(v) && feature_bvh_) {
-      mesh_.set_point(v, to_openmesh(feature_bvh_->closest_point(p).point));
-      return;
+  // After the rounds: a vertex left off the input (a split's midpoint, or a move with nothing
+  // facing its way within reach) goes onto it where that turns no triangle by more than 90
+  // degrees and crosses nothing (on a chord of a needle the triangles may turn further than
+  // in a relaxation); those still off it are counted.
+  void put_back_on_input() {
+    for (auto v : mesh_.vertices()) {
+      if (mesh_.status(v).deleted() || !mesh_.property(off_input_, v)) continue;
+      const std::optional<Vec3> on = on_input(point(v), vertex_normal(v), is_feature(v));
+      std::vector<std::array<Vec3, 3>> made;
+      std::vector<Vec3> was;
+      if (on)
+        for (auto f : mesh_.vf_range(v)) {
+          made.push_back(corners_with(f, v, *on));
+          was.push_back(face_normal(f));
+        }
+      if (on && acceptable(made, was, kNotTurnedOverCos)) {
+        mesh_.set_point(v, to_openmesh(*on));
+        mesh_.property(off_input_, v) = false;
+      } else {
+        ++off_input_vertices_;
+      }
     }
-    const Vec3 n = vertex_normal(v);
-    if (!(n.norm() > 0.5)) return;
+  }
+
+  // Where point p (of a feature line, or with vertex normal `normal`) goes on the input: a
+  // point of a feature line to the nearest point of the input's feature lines, any other to
+  // the nearest point of the input's triangles that face its way; nothing if none is within an
+  // edge length.
+  std::optional<Vec3> on_input(const Vec3& p, const Vec3& normal, bool feature) const {
+    if (feature && feature_bvh_) return feature_bvh_->closest_point(p).point;
+    if (!(normal.norm() > 0.5)) return std::nullopt;
     // Within one edge length: the vertex moved less than that from the surface, and a
     // triangle facing its way further off belongs to some other part of the surface.
     const auto hit = input_bvh_.closest_point_within(p, length_, [&](int t) {
-      return input_normals_[size_t(t)].dot(n) > kProjectFacingCos;
+      return input_normals_[size_t(t)].dot(normal) > kProjectFacingCos;
     });
-    if (hit.triangle >= 0) mesh_.set_point(v, to_openmesh(hit.point));
+    if (hit.triangle < 0) return std::nullopt;
+    return hit.point;
+  }
+
+  Vec3 face_cross(FH f) const {
+    const HH h = mesh_.halfedge_handle(f);
+    const Vec3 a = point(mesh_.from_vertex_handle(h)), b = point(mesh_.to_vertex_handle(h));
+    return (b - a).cross(point(mesh_.to_vertex_handle(mesh_.next_halfedge_handle(h))) - a);
+  }
+
+  // The corners of triangle f with vertex v at p.
+  std::array<Vec3, 3> corners_with(FH f, VH v, const Vec3& p) const {
+    std::array<Vec3, 3> corners;
+    size_t k = 0;
+    for (auto w : mesh_.fv_range(f)) corners[k++] = w == v ? p : point(w);
+    return corners;
+  }
+
+  // Triangles an edit would make, each with the unit normal of the one it replaces: none may
+  // have zero area (two vertices put on the input at one point, as at the tip of a pit),
+  // turn further than to `keep_facing_cos`, or pass through the other side of a thin wall.
+  bool acceptable(const std::vector<std::array<Vec3, 3>>& made, const std::vector<Vec3>& was,
+                  double keep_facing_cos = kKeepFacingCos) {
+    for (size_t i = 0; i < made.size(); ++i) {
+      const Vec3 n = (made[i][1] - made[i][0]).cross(made[i][2] - made[i][0]);
+      if (!(n.norm() > 0) || n.normalized().dot(was[i]) < keep_facing_cos) return false;
+    }
+    for (const auto& t : made)
+      if (crosses_other_side(t)) return false;
+    return true;
+  }
+
+  // Does triangle t pass through an input triangle facing away from it by more than 120
+  // degrees (the other side of a thin wall, as the wall thickness counts it)? Counted in
+  // refused_crossings(). t is first shrunk by a millionth towards its centroid, so that
+  // touching the input at a corner (a vertex on a knife edge lies on both its faces) is no
+  // crossing.
+  bool crosses_other_side(const std::array<Vec3, 3>& t) {
+    const Vec3 centroid = (t[0] + t[1] + t[2]) / 3;
+    std::array<Vec3, 3> shrunk;
+    Eigen::AlignedBox3d box;
+    for (size_t k = 0; k < 3; ++k) box.extend(shrunk[k] = centroid + (1 - 1e-6) * (t[k] - centroid));
+    const Vec3 n = (t[1] - t[0]).cross(t[2] - t[0]).normalized();
+    bool crossed = false;
+    input_bvh_.for_each_in_box(box, [&](int f) {
+      if (crossed || !(input_normals_[size_t(f)].dot(n) < kOppositeCos)) return;
+      const auto& c = input_.triangles[size_t(f)];
+      crossed = triangles_cross(shrunk, {input_.points[size_t(c[0])], input_.points[size_t(c[1])], input_.points[size_t(c[2])]});
+    });
+    refused_crossings_ += crossed;
+    return crossed;
   }
 
   // A triangle may turn by at most acos(0.7) = 46 degrees in a collapse, flip or relaxation.
@@ -276,13 +378,22 @@ class Remesher {
   // Projection only onto input triangles within 60 degrees of the vertex normal (the
   // feature angle): never onto the far side of a crease or a thin wall.
   static constexpr double kProjectFacingCos = 0.5;
+  // Putting a vertex left on a chord onto the input may turn its triangles up to 90 degrees:
+  // the chord's triangles are themselves far from the input's.
+  static constexpr double kNotTurnedOverCos = 0;
+  // The other side of a wall faces more than 120 degrees away
+  // (WallThicknessOptions::opposite_angle_deg).
+  static constexpr double kOppositeCos = -0.5;
 
+  const TriSurface& input_;
   const TriangleBvh& input_bvh_;
   std::unique_ptr<TriangleBvh> feature_bvh_;
   std::vector<Vec3> input_normals_;
   RemeshIsotropicOptions options_;
   double length_;
   SurfaceMesh mesh_;
+  OpenMesh::VPropHandleT<bool> off_input_;  // per vertex: left on a chord, not on the input
+  size_t refused_crossings_ = 0, off_input_vertices_ = 0;
 };
 
 }  // namespace
@@ -331,6 +442,8 @@ TriSurface remesh_isotropic(const TriSurface& surface, const RemeshIsotropicOpti
     report->triangles_before = surface.triangles.size();
     report->triangles_after = result.triangles.size();
     report->edge_length = length;
+    report->refused_crossings = remesher.refused_crossings();
+    report->off_input_vertices = finished ? remesher.off_input_vertices() : 0;
     report->min_angle_before_deg = smallest_angle_deg(surface);
     report->min_angle_after_deg = smallest_angle_deg(result);
   }

@@ -8,6 +8,10 @@
 // "A remeshing approach to multiresolution modeling" (SGP 2004): split long edges, collapse
 // short ones, flip towards valence 6, relax each vertex in its tangent plane, and put it
 // back on the input surface; feature lines keep their vertices on them, corners stay.
+// No edit may leave a triangle of zero area, turned over, or through the other side of a thin
+// wall (an input triangle facing away from it): on a thin wall a chord can dip through the
+// other side where the wall curves (the steep cone of an ear drum's umbo), and two vertices put
+// back on the input can land on one point (at the tip of a pit).
 #pragma once
 
 #include <dthex/mesh/triangle_bvh.h>
@@ -32,6 +36,12 @@ struct RemeshIsotropicReport {
   size_t triangles_before = 0, triangles_after = 0;
   double edge_length = 0;
   double min_angle_before_deg = 0, min_angle_after_deg = 0;  //!< smallest triangle angle
+  //! Edits (splits onto the input, collapses, flips, moves) not made because a triangle would
+  //! have passed through the other side of a thin wall.
+  size_t refused_crossings = 0;
+  //! Vertices left on a chord of the input, off it: putting them on it would have turned a
+  //! triangle over or through the other side of the wall.
+  size_t off_input_vertices = 0;
   //! The mesh grew past 16 times the triangles the length asks for, plus twice the input's
   //! (well above the peak of a needle input's early rounds): the remeshing stopped and
   //! returned the input unchanged.
@@ -60,8 +70,8 @@ double remesh_edge_length(const TriSurface& surface, size_t max_triangles = 0,
                           const TriangleBvh* surface_bvh = nullptr);
 
 //! The remeshed surface of a verified (closed, manifold, consistently oriented) surface.
-//! Every vertex lies on the input surface, a vertex on a feature line on that line; the
-//! result keeps the orientation. The caller verifies it (a fold is possible in principle) and
+//! Every vertex lies on the input surface (but RemeshIsotropicReport::off_input_vertices, on a
+//! chord of it), a vertex on a feature line on that line; the result keeps the orientation. The caller verifies it (a fold is possible in principle) and
 //! judges it: where feature lines meet at a hair's angle (a spike's tip), even triangles are
 //! impossible and the smallest angle can get worse.
 //! `surface_bvh`, when given, is a tree over `surface` the caller already has (else one is built).

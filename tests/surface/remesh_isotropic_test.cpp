@@ -5,6 +5,7 @@
 #include <dthex/io/write_surface.h>
 #include <dthex/mesh/quality.h>
 #include <dthex/mesh/triangle_bvh.h>
+#include <dthex/mesh/triangle_crossing.h>
 #include <dthex/pipeline/pipeline.h>
 #include <dthex/report/report.h>
 #include <dthex/surface/coarsen.h>
@@ -18,6 +19,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 using namespace dthex;
 using dthex::testing::box_surface;
@@ -47,6 +49,57 @@ double smallest_shape(const TriSurface& s) {
   return smallest;
 }
 
+
+// A membrane 2 wide and `thickness` thick, its middle pulled down into a cone (an ear drum's
+// umbo), closed by a rounded rim, and sampled as a scan of one is often exported: rings of
+// one vertex count around two poles, so that the triangles at the poles are needles.
+TriSurface umbo_shell(double thickness) {
+  const double radius = 1, depth = 0.3, cone = 0.3;
+  const int rings = 16, around = 96, rim_rings = 4;
+  TriSurface s;
+  std::vector<std::vector<int>> sequence;  // vertex ids of each ring, by increasing angle
+  const auto height = [&](double r) { return -depth * std::max(0.0, 1 - r / cone) - 0.1 * depth * (1 - r * r); };
+  const auto add_ring = [&](int count, const std::function<Vec3(double)>& at) {
+    std::vector<int> ring;
+    for (int i = 0; i < count; ++i) {
+      ring.push_back(int(s.points.size()));
+      s.points.push_back(at(2 * M_PI * i / count));
+    }
+    sequence.push_back(ring);
+  };
+  const double dr = radius / rings, half = thickness / 2;
+  const auto sheet = [&](double r, double z) { return [=](double a) { return Vec3(r * std::cos(a), r * std::sin(a), height(r) + z); }; };
+  add_ring(1, sheet(0, half));
+  for (int k = 1; k <= rings; ++k) add_ring(around, sheet(k * dr, half));
+  for (int j = 1; j < rim_rings; ++j) {
+    const double phi = M_PI * j / rim_rings;  // around the rim, from the top sheet down
+    add_ring(around, [=](double a) {
+      const double r = radius + half * std::sin(phi);
+      return Vec3(r * std::cos(a), r * std::sin(a), half * std::cos(phi));
+    });
+  }
+  for (int k = rings; k >= 1; --k) add_ring(around, sheet(k * dr, -half));
+  add_ring(1, sheet(0, -half));
+  for (size_t i = 0; i + 1 < sequence.size(); ++i) {
+    const std::vector<int>&a = sequence[i], &b = sequence[i + 1];
+    if (a.size() == 1) {  // the top pole's fan
+      for (size_t j = 0; j < b.size(); ++j) s.triangles.push_back({a[0], b[j], b[(j + 1) % b.size()]});
+      continue;
+    }
+    if (b.size() == 1) {  // the bottom pole's
+      for (size_t j = 0; j < a.size(); ++j) s.triangles.push_back({a[j], b[0], a[(j + 1) % a.size()]});
+      continue;
+    }
+    for (size_t j = 0; j < a.size(); ++j) {  // two rings of one count: a strip of quads
+      const size_t k = (j + 1) % a.size();
+      s.triangles.push_back({a[j], b[j], b[k]});
+      s.triangles.push_back({a[j], b[k], a[k]});
+    }
+  }
+  if (enclosed_volume(s) < 0)
+    for (auto& t : s.triangles) std::swap(t[1], t[2]);
+  return s;
+}
 }  // namespace
 
 TEST(RemeshIsotropic, NeedleShareTellsCadStripsFromEvenTriangles) {
@@ -185,4 +238,42 @@ TEST(RemeshIsotropic, PipelineKeepsASpikeThatRemeshingWouldMakeWorse) {
   EXPECT_EQ(report->outcome, RemeshStageReport::Outcome::gave_up);
   EXPECT_NE(describe(stage->report).find("the input is coarsened as it is"), std::string::npos);
   EXPECT_EQ(r.coarse.triangles.size(), 4u);
+}
+
+TEST(RemeshIsotropic, ThinWallIsRemeshedWithoutCrossingItsOtherSide) {
+  // The umbo shell, 0.05 thick, remeshed at edge 0.15, three times its thickness (what the
+  // automatic length avoids, forced here): chords that long around the rim and the cone dip
+  // through the other side of the wall, and those edits are refused. The result is a valid
+  // surface on the input, and no triangle of it passes through an input triangle facing away.
+  TriSurface shell = umbo_shell(0.05);
+  ASSERT_NO_THROW(verify_surface(shell, "umbo shell"));
+  EXPECT_GT(needle_share(shell), kRemeshNeedleShare);  // the poles' fans
+  RemeshIsotropicOptions options;
+  options.edge_length = 0.15;
+  RemeshIsotropicReport report;
+  TriSurface even = remesh_isotropic(shell, options, &report);
+  ASSERT_NO_THROW(verify_surface(even, "remeshed umbo shell"));
+  EXPECT_GT(report.refused_crossings, 0u);
+  EXPECT_GT(report.min_angle_after_deg, 15);
+  const TriangleBvh bvh(shell);
+  size_t off_input = 0;
+  for (const Vec3& p : even.points) off_input += std::sqrt(bvh.closest_point(p).distance_sq) > 1e-9;
+  EXPECT_EQ(off_input, report.off_input_vertices);
+  const std::vector<Vec3> normals = unit_triangle_normals(shell.points, shell.triangles);
+  size_t crossing = 0;
+  for (const auto& t : even.triangles) {
+    const std::array<Vec3, 3> corners{even.points[size_t(t[0])], even.points[size_t(t[1])], even.points[size_t(t[2])]};
+    const Vec3 n = (corners[1] - corners[0]).cross(corners[2] - corners[0]).normalized();
+    const Vec3 centroid = (corners[0] + corners[1] + corners[2]) / 3;
+    std::array<Vec3, 3> shrunk;  // not counting a corner on the input
+    Eigen::AlignedBox3d box;
+    for (size_t k = 0; k < 3; ++k) box.extend(shrunk[k] = centroid + 0.999 * (corners[k] - centroid));
+    bvh.for_each_in_box(box, [&](int f) {
+      const auto& c = shell.triangles[size_t(f)];
+      if (normals[size_t(f)].dot(n) < -0.5 &&
+          triangles_cross(shrunk, {shell.points[size_t(c[0])], shell.points[size_t(c[1])], shell.points[size_t(c[2])]}))
+        ++crossing;
+    });
+  }
+  EXPECT_EQ(crossing, 0u);
 }
