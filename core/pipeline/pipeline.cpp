@@ -806,6 +806,8 @@ void retry_sized_by_thickness(PipelineResult& result, size_t shared_stages, cons
 // THex's two per tet layer, and no coarse edge shorter than the wall is thick (unless the
 // input's mean edge is longer): where the input's triangles are long and thin, as around a
 // rounded rim, the coarsening can then collapse them, and the tets there are not slivers.
+// A remeshed input (`remeshed`) has even triangles: it keeps the coarsening's own floor, its
+// mean edge, so that a rim or a cone narrower than the wall is thick is sized by its curvature.
 constexpr double kThinWallSizePerThickness = 2;
 constexpr double kThinWallShare = 0.025;
 constexpr double kMembraneSizePerThickness = 4;
@@ -824,7 +826,8 @@ double mean_edge_length(const TriSurface& surface) {
 constexpr double kMembraneSearchRadius = 0.05;
 
 ThinWallPredictionReport predict_thin_walls(const TriSurface& surface, const TriangleBvh& bvh,
-                                            const PipelineOptions& options, double eps, double bbox_diagonal) {
+                                            const PipelineOptions& options, double eps, double bbox_diagonal,
+                                            bool remeshed) {
   ThinWallPredictionReport report;
   report.vertices = surface.points.size();
   CoarsenOptions coarsen_options = coarsen_options_for(options, eps);
@@ -837,7 +840,8 @@ ThinWallPredictionReport predict_thin_walls(const TriSurface& surface, const Tri
   report.thickness_ratio = report.membrane ? kMembraneThicknessRatio : 1.0;
   if (report.membrane) {
     report.wall_thickness = median_wall_thickness(surface, bvh, kMembraneSearchRadius * bbox_diagonal);
-    report.h_min = options.h_min > 0 ? options.h_min : std::max(mean_edge_length(surface), report.wall_thickness);
+    const double floor = remeshed ? 0.0 : report.wall_thickness;
+    report.h_min = options.h_min > 0 ? options.h_min : std::max(mean_edge_length(surface), floor);
   }
   // The dicing is ours to choose unless it was given (PipelineOptions::choose_dice).
   report.dice = report.membrane && options.choose_dice ? 1 : options.dice;
@@ -887,7 +891,7 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
   if (thickness_retry_possible(options) && options.predict_thin_walls) {
     const ThinWallPredictionReport predicted = timed_stage(result, progress, "predict thin walls", [&] {
       return predict_thin_walls(result.coarsening_input(), coarsening_bvh, options, options.eps,
-                                result.input_summary.bbox_diagonal);
+                                result.input_summary.bbox_diagonal, !result.remeshed.triangles.empty());
     });
     if (predicted.thickness_ratio > 0) first.thickness_ratio = predicted.thickness_ratio, first.dice = predicted.dice;
     if (predicted.membrane) first.edit_boundary_tets = false, first.h_min = predicted.h_min;
