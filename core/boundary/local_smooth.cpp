@@ -78,8 +78,11 @@ class NodeSmoother {
   // Worst hex first: each hex below the target has the nodes moved that raise the
   // smallest scaled Jacobian around them; the hexes whose value changes go back in the
   // queue. A hex is taken at most `max_attempts_per_hex` times, which bounds the work
-  // where the target cannot be reached.
-  void raise_worst(LocalSmoothReport& report) {
+  // where the target cannot be reached. With `until_worst_is_stuck` (a lift step) the pass
+  // ends as soon as the worst hex has had its attempts and is still below the target: the
+  // minimum cannot reach the target then, and raising the others would cost shape and time
+  // for nothing the step is for.
+  void raise_worst(LocalSmoothReport& report, bool until_worst_is_stuck = false) {
     const double target = options_.target_scaled_jacobian;
     using Entry = std::pair<double, int>;
     std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
@@ -98,7 +101,11 @@ class NodeSmoother {
     while (!queue.empty()) {
       const auto [value, h] = queue.top();
       queue.pop();
-      if (value != sj_[size_t(h)] || value >= target || attempts[size_t(h)] >= options_.max_attempts_per_hex) continue;
+      if (value != sj_[size_t(h)] || value >= target) continue;
+      if (attempts[size_t(h)] >= options_.max_attempts_per_hex) {
+        if (until_worst_is_stuck) return;  // the worst (the heap's top, its value current) is stuck
+        continue;
+      }
       ++attempts[size_t(h)];
       if (double(++popped) > budget) return;
       if (popped % 64 == 0 && out_of_time(report)) return;
@@ -145,7 +152,7 @@ class NodeSmoother {
       if (min_sj() >= level) continue;  // already there
       const double before = min_sj();
       options_.target_scaled_jacobian = level;
-      raise_worst(report);
+      raise_worst(report, true);
       report.lifted_to = level;
       if (min_sj() < before + 1e-4) return;
     }

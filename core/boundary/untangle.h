@@ -29,18 +29,19 @@ struct UntangleOptions {
   int max_lbfgs_iterations = 100;
   //! The shape pass: rounds and L-BFGS iterations per round (0 iterations skips it). Once
   //! nothing is inverted it is a barrier: it never re-inverts. It sets the average shape the
-  //! local smoother then works from: 30 iterations over the hexes below shape 0.6 end 0.01-0.03
-  //! higher on average than 10 below 0.4 (and the smoother's lift of the worst hexes costs
-  //! about that much), for 15-40% more time in the whole run.
+  //! local smoother then works from: 20 iterations over the hexes below shape 0.5 end about
+  //! 0.01-0.02 higher on average than 10 below 0.4 (the smoother's lift of the worst hexes
+  //! costs about that much); 30 below 0.6 gained little more for three times the time on
+  //! thin walls.
   int smoothing_rounds = 1;
-  int smoothing_iterations = 30;
+  int smoothing_iterations = 20;
   //! It moves the interior nodes of hexes whose shape is below this and of the hexes within
   //! `smoothing_rings` rings of them (threshold 1 or more: every interior node), in pieces of
   //! at most `smoothing_part_nodes` nodes grown breadth-first; pieces that share no hex are
   //! solved at the same time on all cores, neighbours one after the other. Over the whole
   //! mesh at once one near-flat frame limits every step; small pieces converge further in
   //! less time.
-  double smoothing_shape_threshold = 0.6;
+  double smoothing_shape_threshold = 0.5;
   int smoothing_rings = 1;
   int smoothing_part_nodes = 500;
   //! Where moving interior nodes is not enough, let the boundary nodes of the repair

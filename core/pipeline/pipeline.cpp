@@ -2,6 +2,7 @@
 #include <dthex/pipeline/pipeline.h>
 
 #include <dthex/boundary/local_smooth.h>
+#include <dthex/boundary/optimize_worst_regions.h>
 #include <dthex/boundary/project_boundary.h>
 #include <dthex/boundary/repair_boundary_folds.h>
 #include <dthex/boundary/repair_worst_hexes.h>
@@ -540,20 +541,43 @@ void untangle_hexes(Meshing& m, const NodeConstraints& constraints) {
   });
 }
 
-// The local smoother on the worst hexes, then the region repair of those it leaves poor.
+// Stage "optimize worst regions" where hexes stayed below `level` (what the smoother reached):
+// the nodes around the worst of them move together, up to that level. Returns the minimum after.
+double optimize_worst_below(Meshing& m, const NodeConstraints& constraints, double level, double min_now) {
+  if (min_now >= level) return min_now;
+  return m.stage("optimize worst regions", [&] {
+           OptimizeWorstRegionsOptions region_options;
+           region_options.target = level;
+           region_options.constraints = &constraints;
+           region_options.time_limit_seconds = m.options.time_limit_seconds;
+           return optimize_worst_regions(m.result.hexes, region_options);
+         })
+      .min_after;
+}
+
+// The local smoother on the worst hexes (lifting them past its target where it reaches it),
+// the regions around those it leaves behind, then the region repair of those still poor.
 void smooth_and_repair_worst(Meshing& m, const NodeConstraints& constraints) {
   const PipelineOptions& options = m.options;
-  const LocalSmoothReport smoothed = m.stage("smooth worst", [&] {
-    LocalSmoothOptions smooth_options;
-    smooth_options.time_limit_seconds = options.time_limit_seconds;
-    smooth_options.constraints = &constraints;
-    smooth_options.knife_edge_slide = options.knife_edge_slide;
-    if (options.min_dihedral_deg > 0) {
-      smooth_options.target_scaled_jacobian = kLiftedTargetScaledJacobian;
-      smooth_options.lift_to_scaled_jacobian = kLiftedTargetScaledJacobian + 0.1;
-    }
-    return smooth_worst_hexes(m.result.hexes, m.input_bvh, smooth_options);
-  });
+  LocalSmoothOptions smooth_options;
+  smooth_options.time_limit_seconds = options.time_limit_seconds;
+  smooth_options.constraints = &constraints;
+  smooth_options.knife_edge_slide = options.knife_edge_slide;
+  if (options.min_dihedral_deg > 0) {
+    smooth_options.target_scaled_jacobian = kLiftedTargetScaledJacobian;
+    smooth_options.lift_to_scaled_jacobian = kLiftedTargetScaledJacobian + 0.1;
+  }
+  const LocalSmoothReport smoothed =
+      m.stage("smooth worst", [&] { return smooth_worst_hexes(m.result.hexes, m.input_bvh, smooth_options); });
+  const double target = smooth_options.target_scaled_jacobian;
+  double min_now = optimize_worst_below(m, constraints, std::max(target, smoothed.lifted_to), smoothed.min_scaled_jacobian_after);
+  // A few hexes that the smoother could not bring to its target hold its lift back; with them
+  // raised, the lift is made now.
+  if (smoothed.lifted_to == 0 && smooth_options.lift_step > 0 && min_now >= target - 0.5 * smooth_options.lift_step) {
+    const LocalSmoothReport lifted =
+        m.stage("lift worst", [&] { return smooth_worst_hexes(m.result.hexes, m.input_bvh, smooth_options); });
+    min_now = optimize_worst_below(m, constraints, std::max(target, lifted.lifted_to), lifted.min_scaled_jacobian_after);
+  }
   RepairWorstHexesOptions repair_options;
   repair_options.constraints = &constraints;
   repair_options.knife_edge_slide = options.knife_edge_slide;
@@ -562,7 +586,7 @@ void smooth_and_repair_worst(Meshing& m, const NodeConstraints& constraints) {
   // Hexes left below the threshold make this mesh poor. If thin walls are then the likely
   // cause, run_pipeline meshes again sized by thickness whatever the repair reaches, so the
   // repair waits for that mesh.
-  if (options.repair_worst_hexes && smoothed.min_scaled_jacobian_after < repair_options.threshold &&
+  if (options.repair_worst_hexes && min_now < repair_options.threshold &&
       !(thickness_retry_possible(options) && m.thin_walls_likely()))
     m.stage("repair worst", [&] {
       RepairWorstStageReport report;

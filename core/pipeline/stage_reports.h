@@ -6,6 +6,7 @@
 #pragma once
 
 #include <dthex/boundary/local_smooth.h>
+#include <dthex/boundary/optimize_worst_regions.h>
 #include <dthex/boundary/project_boundary.h>
 #include <dthex/boundary/repair_boundary_folds.h>
 #include <dthex/boundary/repair_worst_hexes.h>
@@ -165,7 +166,7 @@ using StageReport =
     std::variant<ReadReport, SurfaceSummary, RemeshStageReport, ThinWallReport, ChooseEpsReport, CoarsenStageReport,
                  TetrahedralizeReport, BoundaryEdgesReport, FlipThreeTetEdgesReport, CollapseInteriorVerticesReport,
                  SplitSurfaceTetsReport, FlipWorstTetsReport, RelaxInteriorPointsReport, SplitCrowdedVerticesReport,
-                 HexCountReport, ProjectReport, UntangleReport, LocalSmoothReport, RepairWorstStageReport,
+                 HexCountReport, ProjectReport, UntangleReport, LocalSmoothReport, OptimizeWorstRegionsReport, RepairWorstStageReport,
                  RepairBoundaryFoldsReport, MeasureReport, MeshTryReport, ThinWallPredictionReport>;
 
 struct StageRecord {

@@ -180,6 +180,16 @@ std::string text(const SplitCrowdedVerticesReport& r) {
          count_text("tets", r.tets_after);
 }
 
+std::string text(const OptimizeWorstRegionsReport& r) {
+  std::ostringstream out;
+  out << "min scaled Jacobian " << r.min_before << " -> " << r.min_after << " in " << count_text("steps", size_t(r.steps))
+      << " (" << count_text("worst hexes", r.seeds) << ", " << count_text("interior nodes", r.moved_nodes)
+      << " around them moved together)";
+  if (r.too_many_seeds) out << ", then too many hexes near the minimum";
+  if (r.time_limit_reached) out << ", time limit reached";
+  return out.str();
+}
+
 std::string text(const HexCountReport& r) { return count_text("hexes", r.hexes); }
 
 std::string text(const ProjectReport& r) {
@@ -373,6 +383,16 @@ json fields(const SplitCrowdedVerticesReport& r) {
           {"most_tets_after", r.most_tets_after},
           {"tets_before", r.tets_before},
           {"tets_after", r.tets_after}};
+}
+
+json fields(const OptimizeWorstRegionsReport& r) {
+  return {{"steps", r.steps},
+          {"seeds", r.seeds},
+          {"moved_nodes", r.moved_nodes},
+          {"min_before", r.min_before},
+          {"min_after", r.min_after},
+          {"too_many_seeds", r.too_many_seeds},
+          {"time_limit_reached", r.time_limit_reached}};
 }
 
 json fields(const HexCountReport& r) { return {{"hexes", r.hexes}}; }

@@ -123,6 +123,25 @@ TEST(PipelineQuality, BoundedDihedralAnglesLiftTheWorstHex) {
   EXPECT_GT(after.hexes.nodes.size(), before.hexes.nodes.size());
   EXPECT_LT(double(after.hexes.nodes.size()), 1.3 * double(before.hexes.nodes.size()));
 }
+//! The worst hexes go past the smoother's target: the smoother lifts them where it can, and the
+//! regions around those it leaves behind are optimized as a whole (a narrow corner at a crowded
+//! tet vertex needs the nodes around it moved together). On the liver the smoother stops at
+//! 0.34 and the regions take the minimum to 0.37, above the 0.35 an analyst asks for.
+TEST(PipelineQuality, TheWorstHexesGoPastTheSmoothersTarget) {
+  Progress quiet;
+  const PipelineResult r = run_pipeline(DTHEX_SOURCE_DIR "/meshes/liver.off", PipelineOptions(), quiet);
+  const auto* smoothed = r.stage_report<LocalSmoothReport>("smooth worst");
+  const auto* regions = r.stage_report<OptimizeWorstRegionsReport>("optimize worst regions");
+  ASSERT_NE(smoothed, nullptr);
+  ASSERT_NE(regions, nullptr);
+  EXPECT_GT(smoothed->min_scaled_jacobian_after, 0.3);
+  EXPECT_DOUBLE_EQ(regions->min_before, smoothed->min_scaled_jacobian_after);
+  EXPECT_GT(regions->min_after, regions->min_before + 0.01);
+  EXPECT_GE(r.quality.scaled_jacobian_stats.min, regions->min_after);
+  EXPECT_GE(r.quality.scaled_jacobian_stats.min, 0.35);
+  EXPECT_EQ(r.quality.inverted, 0u);
+  EXPECT_TRUE(r.conforming);
+}
 TEST(PipelineQuality, FemurMeetsDoneWhen) { expect_done_when("femur_proximal_ct.off", 0.2, 2); }
 
 //! A hollow body (a bone's marrow cavity, a heart's chamber) is a second, inner surface;

@@ -1,0 +1,246 @@
+// SPDX-License-Identifier: MIT
+#include <dthex/boundary/optimize_worst_regions.h>
+
+#include <dthex/hexes/conformity.h>
+#include <dthex/mesh/incidence.h>
+#include <dthex/mesh/quality.h>
+#include <dthex/numerics/lbfgs.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+namespace dthex {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Verdict's frames: corner k and its three edge neighbours; the centre frame's axes as sums
+// of the eight corners with these signs.
+constexpr int kCornerFrames[8][4] = {{0, 1, 3, 4}, {1, 2, 0, 5}, {2, 3, 1, 6}, {3, 0, 2, 7},
+                                     {4, 7, 5, 0}, {5, 4, 6, 1}, {6, 5, 7, 2}, {7, 6, 4, 3}};
+constexpr double kCentreAxes[3][8] = {{-1, 1, 1, -1, -1, 1, 1, -1}, {-1, -1, 1, 1, -1, -1, 1, 1},
+                                      {-1, -1, -1, -1, 1, 1, 1, 1}};
+
+// The scaled Jacobian s = det(a, b, c) / (|a| |b| |c|) of a frame and its gradient with respect
+// to a, b and c (0 where an axis vanishes).
+double frame_scaled_jacobian(const Vec3& a, const Vec3& b, const Vec3& c, Vec3& da, Vec3& db, Vec3& dc) {
+  const double la = a.norm(), lb = b.norm(), lc = c.norm();
+  const double lengths = la * lb * lc;
+  if (!(lengths > 0)) {
+    da = db = dc = Vec3::Zero();
+    return 0;
+  }
+  const Vec3 bc = b.cross(c);
+  const double s = a.dot(bc) / lengths;
+  da = bc / lengths - s * a / (la * la);
+  db = c.cross(a) / lengths - s * b / (lb * lb);
+  dc = a.cross(b) / lengths - s * c / (lc * lc);
+  return s;
+}
+
+class WorstRegionOptimizer {
+ public:
+  WorstRegionOptimizer(HexMesh& mesh, const OptimizeWorstRegionsOptions& options) : mesh_(mesh), options_(options) {
+    node_hexes_ = NodeCellIncidence(mesh.nodes.size(), mesh.hexes);
+    on_boundary_ = boundary_nodes(mesh, options.constraints ? &options.constraints->on_boundary : nullptr);
+    deadline_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                   std::chrono::duration<double>(options.time_limit_seconds));
+  }
+
+  OptimizeWorstRegionsReport run() {
+    OptimizeWorstRegionsReport report;
+    std::vector<double> sj(mesh_.hexes.size());
+    auto measure = [&] {
+      for (size_t h = 0; h < mesh_.hexes.size(); ++h) sj[h] = hex_scaled_jacobian(hex_corners(mesh_, h));
+      return *std::min_element(sj.begin(), sj.end());
+    };
+    report.min_before = report.min_after = measure();
+    for (int step = 0; step < options_.steps && report.min_after < options_.target; ++step) {
+      if (Clock::now() > deadline_) {
+        report.time_limit_reached = true;
+        break;
+      }
+      const double below = std::min(options_.target, report.min_after + options_.margin);
+      std::vector<size_t> seeds;
+      for (size_t h = 0; h < sj.size(); ++h)
+        if (sj[h] < below) seeds.push_back(h);
+      if (seeds.size() > options_.max_seeds) {
+        report.too_many_seeds = true;
+        break;
+      }
+      select(seeds);
+      if (free_.empty() || !solve()) break;
+      report.seeds += seeds.size();
+      report.moved_nodes += free_.size();
+      ++report.steps;
+      report.min_after = measure();
+    }
+    return report;
+  }
+
+ private:
+  // Rounds of L-BFGS on the selected region, each kept only when it raises the region's
+  // minimum; true if one was kept.
+  bool solve() {
+    Eigen::VectorXd z(Eigen::Index(3 * free_.size()));
+    for (size_t i = 0; i < free_.size(); ++i)
+      for (int c = 0; c < 3; ++c) z[Eigen::Index(3 * i) + c] = mesh_.nodes[free_[i]][c] / scale_[i];
+    bool kept_any = false;
+    for (int round = 0; round < options_.rounds && Clock::now() <= deadline_; ++round) {
+      const double before = region_min();
+      const std::vector<Vec3> kept = positions();
+      floor_ = before;
+      LbfgsOptions lbfgs;
+      lbfgs.max_iterations = options_.iterations;
+      lbfgs.deadline = deadline_;
+      minimize_lbfgs(z, [&](const Eigen::VectorXd& x, Eigen::VectorXd& g) { return energy(x, g); }, lbfgs);
+      place(z);
+      if (!(region_min() > before + 1e-6)) {  // no gain: put the round's start back
+        restore(kept);
+        break;
+      }
+      kept_any = true;
+    }
+    return kept_any;
+  }
+
+  // The region: hexes within region_rings rings of the seeds; its free nodes: interior nodes
+  // all of whose hexes are in it; the active hexes: those with a free node.
+  void select(const std::vector<size_t>& seeds) {
+    std::vector<char> in_region(mesh_.hexes.size(), 0);
+    std::vector<size_t> frontier = seeds;
+    for (size_t h : seeds) in_region[h] = 1;
+    std::vector<char> node_seen(mesh_.nodes.size(), 0);
+    for (int ring = 0; ring < options_.region_rings; ++ring) {
+      std::vector<size_t> next;
+      for (size_t h : frontier)
+        for (int v : mesh_.hexes[h]) {
+          if (node_seen[size_t(v)]) continue;
+          node_seen[size_t(v)] = 1;
+          for (int g : node_hexes_[size_t(v)])
+            if (!in_region[size_t(g)]) in_region[size_t(g)] = 1, next.push_back(size_t(g));
+        }
+      frontier.swap(next);
+    }
+    std::vector<char> is_free(mesh_.nodes.size(), 0);
+    for (size_t v = 0; v < mesh_.nodes.size(); ++v) {
+      if (on_boundary_[v] || node_hexes_[v].empty()) continue;
+      bool inside = true;
+      for (int g : node_hexes_[v]) inside = inside && in_region[size_t(g)];
+      if (inside) is_free[v] = 1;
+    }
+    free_.clear();
+    active_.clear();
+    var_of_.assign(mesh_.nodes.size(), -1);
+    for (size_t v = 0; v < mesh_.nodes.size(); ++v)
+      if (is_free[v]) var_of_[v] = int(free_.size()), free_.push_back(v);
+    std::vector<char> active(mesh_.hexes.size(), 0);
+    for (size_t v : free_)
+      for (int g : node_hexes_[v]) active[size_t(g)] = 1;
+    std::vector<int> slot_of(mesh_.hexes.size(), -1);
+    for (size_t h = 0; h < active.size(); ++h)
+      if (active[h]) slot_of[h] = int(active_.size()), active_.push_back(h);
+    slots_of_.assign(free_.size(), {});
+    for (size_t i = 0; i < free_.size(); ++i)
+      for (int g : node_hexes_[free_[i]]) {
+        const auto& hex = mesh_.hexes[size_t(g)];
+        const int corner = int(std::find(hex.begin(), hex.end(), int(free_[i])) - hex.begin());
+        slots_of_[i].push_back({slot_of[size_t(g)], corner});
+      }
+    // Each node's variables in units of its mean hex edge, so one step means the same anywhere.
+    scale_.assign(free_.size(), 0);
+    for (size_t i = 0; i < free_.size(); ++i) {
+      double sum = 0;
+      int count = 0;
+      for (int g : node_hexes_[free_[i]])
+        for (int v : mesh_.hexes[size_t(g)]) sum += (mesh_.nodes[size_t(v)] - mesh_.nodes[free_[i]]).norm(), ++count;
+      scale_[i] = count ? std::max(sum / count, 1e-300) : 1.0;
+    }
+  }
+
+  std::vector<Vec3> positions() const {
+    std::vector<Vec3> out;
+    for (size_t v : free_) out.push_back(mesh_.nodes[v]);
+    return out;
+  }
+  void restore(const std::vector<Vec3>& kept) {
+    for (size_t i = 0; i < free_.size(); ++i) mesh_.nodes[free_[i]] = kept[i];
+  }
+  void place(const Eigen::VectorXd& z) {
+    for (size_t i = 0; i < free_.size(); ++i)
+      mesh_.nodes[free_[i]] = scale_[i] * Vec3(z[Eigen::Index(3 * i)], z[Eigen::Index(3 * i) + 1], z[Eigen::Index(3 * i) + 2]);
+  }
+  double region_min() const {
+    double lowest = std::numeric_limits<double>::infinity();
+    for (size_t h : active_) lowest = std::min(lowest, hex_scaled_jacobian(hex_corners(mesh_, h)));
+    return lowest;
+  }
+
+  // sum over the active hexes' frames of exp(-sharpness (s - floor)), and its gradient in z.
+  // Each hex's gradient goes to its own slots, then each node sums its hexes'.
+  double energy(const Eigen::VectorXd& z, Eigen::VectorXd& gradient) {
+    place(z);
+    const double k = options_.sharpness;
+    hex_gradient_.resize(8 * active_.size());
+    double total = 0;
+    for (long a = 0; a < long(active_.size()); ++a) {
+      const auto& hex = mesh_.hexes[active_[size_t(a)]];
+      std::array<Vec3, 8> x;
+      for (size_t i = 0; i < 8; ++i) x[i] = mesh_.nodes[size_t(hex[i])];
+      Vec3* dx = &hex_gradient_[8 * size_t(a)];
+      for (size_t i = 0; i < 8; ++i) dx[i] = Vec3::Zero();
+      Vec3 da, db, dc;
+      for (const auto& f : kCornerFrames) {
+        const double s = frame_scaled_jacobian(x[size_t(f[1])] - x[size_t(f[0])], x[size_t(f[2])] - x[size_t(f[0])],
+                                               x[size_t(f[3])] - x[size_t(f[0])], da, db, dc);
+        const double e = std::exp(-k * (s - floor_));
+        total += e;
+        const double w = -k * e;
+        dx[f[1]] += w * da, dx[f[2]] += w * db, dx[f[3]] += w * dc;
+        dx[f[0]] -= w * (da + db + dc);
+      }
+      std::array<Vec3, 3> axis;
+      for (size_t a3 = 0; a3 < 3; ++a3) {
+        axis[a3] = Vec3::Zero();
+        for (size_t i = 0; i < 8; ++i) axis[a3] += kCentreAxes[a3][i] * x[i];
+      }
+      const double s = frame_scaled_jacobian(axis[0], axis[1], axis[2], da, db, dc);
+      const double e = std::exp(-k * (s - floor_));
+      total += e;
+      const double w = -k * e;
+      for (size_t i = 0; i < 8; ++i) dx[i] += w * (kCentreAxes[0][i] * da + kCentreAxes[1][i] * db + kCentreAxes[2][i] * dc);
+    }
+    for (size_t i = 0; i < free_.size(); ++i) {
+      Vec3 g = Vec3::Zero();
+      for (const auto& [slot, corner] : slots_of_[i]) g += hex_gradient_[8 * size_t(slot) + size_t(corner)];
+      for (int c = 0; c < 3; ++c) gradient[Eigen::Index(3 * i) + c] = g[c] * scale_[i];
+    }
+    return total;
+  }
+
+  HexMesh& mesh_;
+  const OptimizeWorstRegionsOptions& options_;
+  NodeCellIncidence node_hexes_;
+  std::vector<char> on_boundary_;
+  std::vector<size_t> free_, active_;
+  std::vector<int> var_of_;
+  std::vector<double> scale_;
+  std::vector<std::vector<std::pair<int, int>>> slots_of_;  //!< per free node: (active hex slot, corner)
+  std::vector<Vec3> hex_gradient_;                          //!< 8 per active hex
+  double floor_ = 0;
+  Clock::time_point deadline_;
+};
+
+}  // namespace
+
+OptimizeWorstRegionsReport optimize_worst_regions(HexMesh& mesh, const OptimizeWorstRegionsOptions& options) {
+  if (mesh.hexes.empty()) return {};
+  WorstRegionOptimizer optimizer(mesh, options);
+  return optimizer.run();
+}
+
+}  // namespace dthex

@@ -1,0 +1,61 @@
+// SPDX-License-Identifier: MIT
+// docs/METHOD.md section 6 (Fitting the boundary), step 5: the regions around the worst hexes
+// optimized as a whole for their smallest scaled Jacobian. The local smoother moves one node at
+// a time; where a corner is narrow because the corners around a crowded tet vertex share its
+// sphere unevenly, widening it means moving many nodes around that vertex together, each move
+// alone narrowing a neighbour, so a node-by-node search stops there. Here the interior nodes
+// within a few hex rings of the worst hexes move together, minimizing a smooth stand-in for the
+// smallest scaled Jacobian of the region's frames (the eight corners and the centre of each hex
+// with a moving node): sum exp(-sharpness (s_f - s_min)), which the worst frames dominate. A
+// round is kept only when it raises the region's minimum, so the mesh's minimum never falls;
+// the seeds are the worst few hexes, taken again as the minimum rises (a continuation).
+#pragma once
+
+#include <dthex/mesh/node_constraints.h>
+#include <dthex/mesh/types.h>
+
+namespace dthex {
+
+struct OptimizeWorstRegionsOptions {
+  //! Steps of a continuation: each takes the hexes within `margin` of the mesh's smallest
+  //! scaled Jacobian as seeds and optimizes the region around them; it stops when the minimum
+  //! reaches `target`, when a step raises it no further, or after `steps` steps. Each step
+  //! works on the worst few hexes only, so its cost follows them, not the mesh.
+  double target = 0.4;
+  double margin = 0.02;
+  int steps = 8;
+  //! A step with more seeds than this is not taken, and the continuation ends: where many
+  //! hexes sit within the margin of the minimum (a thin wall's hexes at the smoother's target)
+  //! their regions would cover much of the mesh, and raising some would not raise the minimum.
+  size_t max_seeds = 64;
+  //! Hex rings around the seeds whose interior nodes move (a node moves only when all its
+  //! hexes are in the region). More rings free the arrangement around a crowded vertex
+  //! further out, at the cost of a larger problem; two were too few to widen one.
+  int region_rings = 3;
+  //! The energy's sharpness: higher concentrates it on the worst frames (closer to the true
+  //! minimum, with a stiffer problem); lower spreads it over the region.
+  double sharpness = 40;
+  //! Rounds per step (the minimum the energy is taken against updated after each) and L-BFGS
+  //! iterations per round.
+  int rounds = 2;
+  int iterations = 50;
+  //! Optional: the mesh's node_constraints(); its on_boundary is used (found here without it).
+  const NodeConstraints* constraints = nullptr;
+  double time_limit_seconds = 60.0;
+};
+
+struct OptimizeWorstRegionsReport {
+  int steps = 0;           //!< continuation steps that raised the minimum
+  bool too_many_seeds = false;  //!< it ended at a step with more than max_seeds seeds
+  size_t seeds = 0;        //!< seed hexes, over the steps
+  size_t moved_nodes = 0;  //!< interior nodes moved, over the steps (a node counted once per step)
+  double min_before = 0, min_after = 0;  //!< smallest scaled Jacobian of the mesh
+  bool time_limit_reached = false;
+};
+
+//! Moves interior nodes of `mesh` near its worst hexes to raise its smallest scaled Jacobian
+//! towards options.target; the boundary does not move. The mesh's minimum never falls and no hex is inverted
+//! that was not before.
+OptimizeWorstRegionsReport optimize_worst_regions(HexMesh& mesh, const OptimizeWorstRegionsOptions& options = {});
+
+}  // namespace dthex
