@@ -27,7 +27,7 @@ struct OptimizeWorstRegionsOptions {
   //! A step with more seeds than this is not taken, and the continuation ends: where many
   //! hexes sit within the margin of the minimum (a thin wall's hexes at the smoother's target)
   //! their regions would cover much of the mesh, and raising some would not raise the minimum.
-  size_t max_seeds = 64;
+  size_t max_seeds = 32;
   //! Hex rings around the seeds whose interior nodes move (a node moves only when all its
   //! hexes are in the region). More rings free the arrangement around a crowded vertex
   //! further out, at the cost of a larger problem; two were too few to widen one.
@@ -38,7 +38,7 @@ struct OptimizeWorstRegionsOptions {
   //! Rounds per step (the minimum the energy is taken against updated after each) and L-BFGS
   //! iterations per round.
   int rounds = 2;
-  int iterations = 50;
+  int iterations = 30;
   //! Optional: the mesh's node_constraints(); its on_boundary is used (found here without it).
   const NodeConstraints* constraints = nullptr;
   double time_limit_seconds = 60.0;
