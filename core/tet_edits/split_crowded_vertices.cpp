@@ -2,6 +2,7 @@
 #include <dthex/tet_edits/split_crowded_vertices.h>
 
 #include <dthex/mesh/quality.h>
+#include <dthex/numerics/grid_directions.h>
 
 #include <Eigen/Eigenvalues>
 
@@ -76,19 +77,6 @@ bool faces_form_a_disk(const std::vector<LinkFace>& link, const std::vector<char
   for (const auto& [vertex, index] : vertex_index)
     if (root(index) != first) return false;
   return true;
-}
-
-// The 26 directions to the neighbours of a cell of a cubic grid, unit length.
-const std::vector<Vec3>& grid_directions() {
-  static const std::vector<Vec3> directions = [] {
-    std::vector<Vec3> out;
-    for (int i = -1; i <= 1; ++i)
-      for (int j = -1; j <= 1; ++j)
-        for (int k = -1; k <= 1; ++k)
-          if (i || j || k) out.push_back(Vec3(i, j, k).normalized());
-    return out;
-  }();
-  return directions;
 }
 
 class CrowdedVertexSplitter {

@@ -2,6 +2,7 @@
 #include <dthex/tets/relax_interior_points.h>
 
 #include <dthex/mesh/quality.h>
+#include <dthex/numerics/grid_directions.h>
 
 #include <Eigen/Geometry>
 
@@ -36,17 +37,6 @@ double worst_with(const TetMesh& mesh, const std::vector<int>& star, int v, cons
   return score_with(mesh, star, v, x).worst;
 }
 
-// The 26 directions to the neighbours of a cell in a cubic grid, unit length: with the
-// step halved when none helps, a pattern search that needs no derivative of the max-min.
-std::vector<Vec3> grid_directions() {
-  std::vector<Vec3> out;
-  for (int i = -1; i <= 1; ++i)
-    for (int j = -1; j <= 1; ++j)
-      for (int k = -1; k <= 1; ++k)
-        if (i || j || k) out.push_back(Vec3(i, j, k).normalized());
-  return out;
-}
-
 // Unit normal of the face of the star's worst tet opposite v, pointing to v: the way that
 // tet gets taller, which the grid directions only approximate.
 Vec3 away_from_worst_face(const TetMesh& mesh, const std::vector<int>& star, int v) {
@@ -74,7 +64,7 @@ Vec3 away_from_worst_face(const TetMesh& mesh, const std::vector<int>& star, int
 // otherwise the sum of inverse shapes falls while the worst tet does not. Marks moved points.
 void relax(TetMesh& mesh, const std::vector<char>& on_boundary, const std::vector<std::vector<int>>& star,
            const RelaxInteriorPointsOptions& options, bool max_min, double only_below, std::vector<char>& moved) {
-  const std::vector<Vec3> grid = grid_directions();
+  const std::vector<Vec3>& grid = grid_directions();
 
   for (int pass = 0; pass < options.max_passes; ++pass) {
     // Worst star first: its moves are made before its neighbours take the room.
