@@ -2,6 +2,7 @@
 #include <dthex/boundary/optimize_worst_regions.h>
 
 #include <dthex/hexes/conformity.h>
+#include <dthex/mesh/hex_topology.h>
 #include <dthex/mesh/incidence.h>
 #include <dthex/mesh/quality.h>
 #include <dthex/numerics/lbfgs.h>
@@ -17,13 +18,6 @@ namespace dthex {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-// Verdict's frames: corner k and its three edge neighbours; the centre frame's axes as sums
-// of the eight corners with these signs.
-constexpr int kCornerFrames[8][4] = {{0, 1, 3, 4}, {1, 2, 0, 5}, {2, 3, 1, 6}, {3, 0, 2, 7},
-                                     {4, 7, 5, 0}, {5, 4, 6, 1}, {6, 5, 7, 2}, {7, 6, 4, 3}};
-constexpr double kCentreAxes[3][8] = {{-1, 1, 1, -1, -1, 1, 1, -1}, {-1, -1, 1, 1, -1, -1, 1, 1},
-                                      {-1, -1, -1, -1, 1, 1, 1, 1}};
 
 // The scaled Jacobian s = det(a, b, c) / (|a| |b| |c|) of a frame and its gradient with respect
 // to a, b and c (0 where an axis vanishes).
@@ -194,7 +188,7 @@ class WorstRegionOptimizer {
       Vec3* dx = &hex_gradient_[8 * size_t(a)];
       for (size_t i = 0; i < 8; ++i) dx[i] = Vec3::Zero();
       Vec3 da, db, dc;
-      for (const auto& f : kCornerFrames) {
+      for (const auto& f : kHexCornerFrames) {
         const double s = frame_scaled_jacobian(x[size_t(f[1])] - x[size_t(f[0])], x[size_t(f[2])] - x[size_t(f[0])],
                                                x[size_t(f[3])] - x[size_t(f[0])], da, db, dc);
         const double e = std::exp(-k * (s - floor_));
@@ -206,13 +200,13 @@ class WorstRegionOptimizer {
       std::array<Vec3, 3> axis;
       for (size_t a3 = 0; a3 < 3; ++a3) {
         axis[a3] = Vec3::Zero();
-        for (size_t i = 0; i < 8; ++i) axis[a3] += kCentreAxes[a3][i] * x[i];
+        for (size_t i = 0; i < 8; ++i) axis[a3] += kHexCentreAxes[a3][i] * x[i];
       }
       const double s = frame_scaled_jacobian(axis[0], axis[1], axis[2], da, db, dc);
       const double e = std::exp(-k * (s - floor_));
       total += e;
       const double w = -k * e;
-      for (size_t i = 0; i < 8; ++i) dx[i] += w * (kCentreAxes[0][i] * da + kCentreAxes[1][i] * db + kCentreAxes[2][i] * dc);
+      for (size_t i = 0; i < 8; ++i) dx[i] += w * (kHexCentreAxes[0][i] * da + kHexCentreAxes[1][i] * db + kHexCentreAxes[2][i] * dc);
     }
     for (size_t i = 0; i < free_.size(); ++i) {
       Vec3 g = Vec3::Zero();

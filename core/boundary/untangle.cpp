@@ -3,6 +3,7 @@
 
 #include <dthex/hexes/conformity.h>
 #include <dthex/mesh/graph_colouring.h>
+#include <dthex/mesh/hex_topology.h>
 #include <dthex/mesh/incidence.h>
 #include <dthex/numerics/inverse_cube_root.h>
 #include <dthex/numerics/lbfgs.h>
@@ -36,11 +37,6 @@ inline double chi(double d, double eps) {
   const double root = std::sqrt(eps * eps + d * d);
   return d > 0 ? 0.5 * (d + root) : 0.5 * eps * eps / (root - d);
 }
-
-constexpr int kCornerFrames[8][4] = {{0, 1, 3, 4}, {1, 2, 0, 5}, {2, 3, 1, 6}, {3, 0, 2, 7},
-                                     {4, 7, 5, 0}, {5, 4, 6, 1}, {6, 5, 7, 2}, {7, 6, 4, 3}};
-constexpr double kCentreFrame[3][8] = {{-1, 1, 1, -1, -1, 1, 1, -1}, {-1, -1, 1, 1, -1, -1, 1, 1},
-                                       {-1, -1, -1, -1, 1, 1, 1, 1}};
 
 //! Garanzha's per-frame energy (1 - theta) |J|^2 / chi^(2/3) + theta (1 + det^2) / chi for
 //! the (up to 9) frames of one hex, and its gradient with respect to each J, which is
@@ -386,7 +382,7 @@ class Untangler {
       unsigned mask = 1u << 8;  // the centre frame involves all 8 nodes
       auto movable_corner = [&](int j) { return var_offset_[size_t(mesh_.hexes[h][size_t(j)])] >= 0; };
       for (int k = 0; k < 8; ++k)
-        for (int j : kCornerFrames[k])
+        for (int j : kHexCornerFrames[k])
           if (movable_corner(j)) mask |= 1u << k;
       ph.active_frames.push_back(mask);
     }
@@ -555,7 +551,7 @@ class Untangler {
         FrameBatch batch;
         for (int k = 0; k < 8; ++k) {
           if (!(mask & (1u << k))) continue;
-          const int* c = kCornerFrames[k];
+          const int* c = kHexCornerFrames[k];
           Eigen::Matrix3d& jac = batch.jac[batch.count];
           for (int i = 0; i < 3; ++i) jac.col(i) = (x[size_t(c[i + 1])] - x[size_t(c[0])]) * inv_size;
           batch.frame[batch.count++] = k;
@@ -564,7 +560,7 @@ class Untangler {
           Eigen::Matrix3d& jac = batch.jac[batch.count];
           jac.setZero();
           for (size_t j = 0; j < 8; ++j)
-            for (int i = 0; i < 3; ++i) jac.col(i) += kCentreFrame[i][j] * x[j];
+            for (int i = 0; i < 3; ++i) jac.col(i) += kHexCentreAxes[i][j] * x[j];
           jac *= 0.25 * inv_size;
           batch.frame[batch.count++] = 8;
         }
@@ -578,7 +574,7 @@ class Untangler {
             const Eigen::Matrix3d dj = batch.jac_weight[f] * batch.jac[f] + batch.det_weight[f] * batch.cof[f];
             const int k = batch.frame[f];
             if (k < 8) {
-              const int* c = kCornerFrames[k];
+              const int* c = kHexCornerFrames[k];
               for (int i = 0; i < 3; ++i) {
                 const Vec3 gi = dj.col(i) * inv_size;
                 g[size_t(c[i + 1])] += gi;
@@ -586,8 +582,8 @@ class Untangler {
               }
             } else {
               for (size_t j = 0; j < 8; ++j)
-                g[j] += (0.25 * inv_size) * (kCentreFrame[0][j] * dj.col(0) + kCentreFrame[1][j] * dj.col(1) +
-                                             kCentreFrame[2][j] * dj.col(2));
+                g[j] += (0.25 * inv_size) * (kHexCentreAxes[0][j] * dj.col(0) + kHexCentreAxes[1][j] * dj.col(1) +
+                                             kHexCentreAxes[2][j] * dj.col(2));
             }
           }
         }

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The corner numbering of a hexahedron (VTK's and every writer's: corners 0-3 one quad,
-// 4-7 the opposite quad, i above i-4), its edges and sides as corner lists, and the key of
-// an undirected edge between two nodes. Written once: dicing, conformity, projection, the
+// 4-7 the opposite quad, i above i-4), its edges, sides and Jacobian frames as corner lists,
+// and the key of an undirected edge between two nodes. Written once: dicing, conformity, projection, the
 // fold repair, the sets and the writers all walk hexes by these tables.
 #pragma once
 
@@ -19,6 +19,16 @@ constexpr std::array<std::array<int, 2>, 12> kHexEdges = {{
 //! positively oriented hex.
 constexpr std::array<std::array<int, 4>, 6> kHexFaces = {{
     {0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}}};
+
+//! Verdict's corner frames: corner k, then its three edge neighbours, in the order of the
+//! columns of the corner's Jacobian (scaled Jacobian, shape, the untangler's energy).
+inline constexpr int kHexCornerFrames[8][4] = {{0, 1, 3, 4}, {1, 2, 0, 5}, {2, 3, 1, 6}, {3, 0, 2, 7},
+                                               {4, 7, 5, 0}, {5, 4, 6, 1}, {6, 5, 7, 2}, {7, 6, 4, 3}};
+
+//! The centre frame's three axes as sums of the eight corners with these signs.
+inline constexpr double kHexCentreAxes[3][8] = {{-1, 1, 1, -1, -1, 1, 1, -1},
+                                                {-1, -1, 1, 1, -1, -1, 1, 1},
+                                                {-1, -1, -1, -1, 1, 1, 1, 1}};
 
 //! One 64-bit key per undirected edge: the smaller node index in the high half.
 inline uint64_t undirected_edge_key(int a, int b) {

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/mesh/quality.h>
 
+#include <dthex/mesh/hex_topology.h>
+
 #include <dthex/numerics/inverse_cube_root.h>
 
 #include <Eigen/Dense>
@@ -13,9 +15,6 @@ namespace {
 
 constexpr double kVerdictDblMin = 2.2250738585072014e-308;  // DBL_MIN, as Verdict compares
 
-// Verdict's corner frames: (corner, xi-neighbour, eta-neighbour, zeta-neighbour).
-constexpr int kHexCorners[8][4] = {{0, 1, 3, 4}, {1, 2, 0, 5}, {2, 3, 1, 6}, {3, 0, 2, 7},
-                                   {4, 7, 5, 0}, {5, 4, 6, 1}, {6, 5, 7, 2}, {7, 6, 4, 3}};
 
 double det3(const Vec3& a, const Vec3& b, const Vec3& c) { return a.dot(b.cross(c)); }
 
@@ -70,7 +69,7 @@ struct Frames {
     ++count;
   }
   void add_corner(const std::array<Vec3, 8>& x, int corner) {
-    const auto& k = kHexCorners[corner];
+    const auto& k = kHexCornerFrames[corner];
     add(x[size_t(k[1])] - x[size_t(k[0])], x[size_t(k[2])] - x[size_t(k[0])], x[size_t(k[3])] - x[size_t(k[0])]);
   }
   void add_centre(const std::array<Vec3, 8>& x) {
@@ -173,7 +172,7 @@ int hex_worst_scaled_jacobian_frame(const std::array<Vec3, 8>& x) {
 }
 
 std::array<int, 4> hex_corner_frame_nodes(int corner) {
-  const auto& k = kHexCorners[corner];
+  const auto& k = kHexCornerFrames[corner];
   return {k[0], k[1], k[2], k[3]};
 }
 
@@ -181,7 +180,7 @@ namespace {
 // Does corner frame `frame` use node `node` (its own corner or one of its three edges)?
 bool frame_uses(int frame, int node) {
   for (int i = 0; i < 4; ++i)
-    if (kHexCorners[frame][i] == node) return true;
+    if (kHexCornerFrames[frame][i] == node) return true;
   return false;
 }
 }  // namespace
