@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <map>
+#include <random>
 #include <set>
 
 using namespace dthex;
@@ -151,6 +152,45 @@ TEST(CurvatureSizing, GradationLimitsJumpsAndOnlyLowers) {
   EXPECT_DOUBLE_EQ(h[221], 0.1 + 0.5 * 0.5);  // neighbour at distance 0.5
   EXPECT_NEAR(h[0], 0.1 + 0.5 * std::sqrt(50.0), 1e-12);  // along the diagonal edges
   EXPECT_DOUBLE_EQ(h[20], 5.0);  // corner (10, 0): path length 10, 0.1 + 5 > 5, unchanged
+}
+
+// The gradation's fixed point by plain sweeps (Bellman-Ford): every edge relaxed until no
+// size falls. limit_gradation (Dijkstra, only some vertices queued) must end at the same
+// sizes bit for bit.
+std::vector<double> gradation_by_sweeps(const SurfaceMesh& mesh, std::vector<double> h, double beta) {
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (auto v : mesh.vertices())
+      for (auto q : mesh.vv_range(v)) {
+        const double candidate = h[size_t(v.idx())] + beta * (mesh.point(q) - mesh.point(v)).norm();
+        if (candidate < h[size_t(q.idx())]) h[size_t(q.idx())] = candidate, changed = true;
+      }
+  }
+  return h;
+}
+
+TEST(CurvatureSizing, GradationEqualsItsFixedPointBitForBit) {
+  // Sizes of every scale at random (a few tiny, most clamped at one large value, as on a
+  // fine input), on a mesh small enough for one core and on one above the parallel size.
+  for (int levels : {3, 7}) {
+    const SurfaceMesh mesh = icosphere(2.0, levels);
+    std::mt19937 random(7);
+    std::uniform_real_distribution<double> uniform(0.0, 1.0);
+    std::vector<double> h(mesh.n_vertices());
+    for (double& x : h) {
+      const double u = uniform(random);
+      x = u < 0.01 ? 1e-3 * uniform(random) : u < 0.3 ? 0.5 * uniform(random) : 1.0;
+    }
+    const std::vector<double> expected = gradation_by_sweeps(mesh, h, 0.5);
+    limit_gradation(mesh, h, 0.5);
+    size_t lowered = 0, differ = 0;
+    for (size_t v = 0; v < h.size(); ++v) {
+      differ += h[v] != expected[v];
+      lowered += expected[v] < 1.0;
+    }
+    EXPECT_EQ(differ, 0u) << levels << " levels";
+    EXPECT_GT(lowered, h.size() / 2);  // the test lowers most sizes, through long chains
+  }
 }
 
 TEST(CurvatureSizing, LargeMeshGetsEveryRadiusAtItsOwnVertex) {
