@@ -142,41 +142,62 @@ void limit_gradation(const Mesh& mesh, std::vector<double>& h, double beta) {
   }
 }
 
+//! What the automatic (0) size bounds of CurvatureSizingOptions are made from: the mesh's
+//! mean edge length (h_min) and half its bounding-box diagonal (h_max).
+struct AutomaticSizeBounds {
+  double mean_edge = 0, half_diagonal = 0;
+};
+
+template <class Mesh>
+AutomaticSizeBounds automatic_size_bounds(const Mesh& mesh) {
+  AutomaticSizeBounds out;
+  double sum = 0;
+  size_t count = 0;
+  for (auto e : mesh.edges()) {
+    if (mesh.has_edge_status() && mesh.status(e).deleted()) continue;
+    sum += mesh.calc_edge_length(e);
+    ++count;
+  }
+  out.mean_edge = count ? sum / double(count) : 0.0;
+  typename Mesh::Point lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+  for (auto v : mesh.vertices()) {
+    lo.minimize(mesh.point(v));
+    hi.maximize(mesh.point(v));
+  }
+  out.half_diagonal = mesh.n_vertices() ? 0.5 * (hi - lo).norm() : 0.0;
+  return out;
+}
+
+//! h_min/h_max of options, its automatic (0) defaults taken from `automatic`.
+inline std::pair<double, double> sizing_bounds(const AutomaticSizeBounds& automatic,
+                                               const CurvatureSizingOptions& options) {
+  const double h_min = options.h_min > 0 ? options.h_min : automatic.mean_edge;
+  const double h_max = options.h_max > 0 ? options.h_max : automatic.half_diagonal;
+  return {h_min, std::max(h_min, h_max)};
+}
+
 //! h_min/h_max after resolving the automatic (0) defaults of options on this mesh.
 template <class Mesh>
 std::pair<double, double> sizing_bounds(const Mesh& mesh, const CurvatureSizingOptions& options) {
-  double h_min = options.h_min, h_max = options.h_max;
-  if (h_min <= 0) {
-    double sum = 0;
-    size_t count = 0;
-    for (auto e : mesh.edges()) {
-      if (mesh.has_edge_status() && mesh.status(e).deleted()) continue;
-      sum += mesh.calc_edge_length(e);
-      ++count;
-    }
-    h_min = count ? sum / double(count) : 0.0;
-  }
-  if (h_max <= 0) {
-    typename Mesh::Point lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
-    for (auto v : mesh.vertices()) {
-      lo.minimize(mesh.point(v));
-      hi.maximize(mesh.point(v));
-    }
-    h_max = mesh.n_vertices() ? 0.5 * (hi - lo).norm() : 0.0;
-  }
-  return {h_min, std::max(h_min, h_max)};
+  return sizing_bounds(automatic_size_bounds(mesh), options);
+}
+
+//! The sizing field from osculating radii already measured on `mesh` (osculating_radii) and
+//! the bounds (sizing_bounds): what curvature_sizing computes after measuring them.
+template <class Mesh>
+std::vector<double> sizing_from_radii(const Mesh& mesh, std::vector<double> rho, std::pair<double, double> bounds,
+                                      const CurvatureSizingOptions& options) {
+  const double alpha = sizing_alpha(options.eps);
+  for (double& x : rho) x = std::clamp(alpha * x, bounds.first, bounds.second);  // clamp maps inf to h_max
+  limit_gradation(mesh, rho, options.gradation);
+  return rho;
 }
 
 //! The sizing field (indexed by vertex idx) of docs/METHOD.md section 3 (Coarsening) on the
 //! mesh as it is.
 template <class Mesh>
 std::vector<double> curvature_sizing(const Mesh& mesh, const CurvatureSizingOptions& options) {
-  const auto [h_min, h_max] = sizing_bounds(mesh, options);
-  const double alpha = sizing_alpha(options.eps);
-  std::vector<double> h = osculating_radii(mesh);
-  for (double& x : h) x = std::clamp(alpha * x, h_min, h_max);  // clamp maps inf to h_max
-  limit_gradation(mesh, h, options.gradation);
-  return h;
+  return sizing_from_radii(mesh, osculating_radii(mesh), sizing_bounds(mesh, options), options);
 }
 
 //! The "v:dthex_size" property, added if the mesh does not have it yet.

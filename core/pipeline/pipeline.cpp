@@ -392,6 +392,8 @@ struct Meshing {
   const TriangleBvh& input_bvh;       // over result.input
   const TriangleBvh& coarsening_bvh;  // over result.coarsening_input()
   bool thin_walls_counted = false;
+  // The thin-wall prediction's set-up of the coarsening, for the first coarsening (then freed).
+  std::unique_ptr<CoarseningInput> prepared = nullptr;
 
   template <class Fn>
   auto stage(const std::string& name, Fn&& fn) {
@@ -433,7 +435,8 @@ void coarsen_input_at(Meshing& m, double eps, const std::vector<FailedEps>& fail
     CoarsenStageReport report;
     report.failed = failed;
     report.eps = eps;
-    report.coarsen = coarsen(result.coarsening_input(), coarsen_options, &m.coarsening_bvh);
+    report.coarsen = m.prepared ? coarsen(*m.prepared, coarsen_options)
+                                : coarsen(result.coarsening_input(), coarsen_options, &m.coarsening_bvh);
     result.coarse = std::move(report.coarsen.surface);
     report.coarsen.surface = TriSurface{};
     report.coarsen.sizes.clear();
@@ -675,8 +678,9 @@ void measure(Meshing& m, Conformity& conformity) {
 // Every stage after verification, into `result` (which holds the verified input and, if it
 // was remeshed, the remeshed surface; `coarsening_bvh` is the tree over the one coarsened).
 void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, const TriangleBvh& coarsening_bvh,
-                         const PipelineOptions& options, Progress& progress) {
-  Meshing m{result, options, progress, input_bvh, coarsening_bvh};
+                         const PipelineOptions& options, Progress& progress,
+                         std::unique_ptr<CoarseningInput> prepared = nullptr) {
+  Meshing m{result, options, progress, input_bvh, coarsening_bvh, false, std::move(prepared)};
   result.thickness_ratio_used = options.thickness_ratio;
   result.eps = options.eps;
   result.dice = options.dice;
@@ -686,6 +690,7 @@ void mesh_verified_input(PipelineResult& result, const TriangleBvh& input_bvh, c
     result.coarse_summary = result.input_summary;
   } else {
     coarsen_input(m);
+    m.prepared.reset();
   }
   split_tets_into_hexes(m, mesh_with_tets(m));
   if (!options.thex_only && result.dice > 1) dice_hexes(m);
@@ -849,21 +854,21 @@ double mean_edge_length(const TriSurface& surface) {
 // The ball a membrane's thickness is searched from, as a fraction of the bounding-box diagonal.
 constexpr double kMembraneSearchRadius = 0.05;
 
-ThinWallPredictionReport predict_thin_walls(const TriSurface& surface, const TriangleBvh& bvh,
-                                            const PipelineOptions& options, double eps, double bbox_diagonal,
-                                            bool remeshed) {
+ThinWallPredictionReport predict_thin_walls(const CoarseningInput& prepared, const PipelineOptions& options, double eps,
+                                            double bbox_diagonal, bool remeshed) {
+  const TriSurface& surface = prepared.surface();
   ThinWallPredictionReport report;
   report.vertices = surface.points.size();
   CoarsenOptions coarsen_options = coarsen_options_for(options, eps);
   coarsen_options.max_size_per_thickness = kThinWallSizePerThickness;
-  report.thinner_twice = count_thin_wall_vertices(surface, coarsen_options);
+  report.thinner_twice = count_thin_wall_vertices(prepared, coarsen_options);
   if (double(report.thinner_twice) < kThinWallShare * double(report.vertices)) return report;
   coarsen_options.max_size_per_thickness = kMembraneSizePerThickness;
-  report.thinner_four_times = count_thin_wall_vertices(surface, coarsen_options);
+  report.thinner_four_times = count_thin_wall_vertices(prepared, coarsen_options);
   report.membrane = double(report.thinner_four_times) >= kMembraneShare * double(report.vertices);
   report.thickness_ratio = report.membrane ? kMembraneThicknessRatio : 1.0;
   if (report.membrane) {
-    report.wall_thickness = median_wall_thickness(surface, bvh, kMembraneSearchRadius * bbox_diagonal);
+    report.wall_thickness = median_wall_thickness(surface, prepared.bvh(), kMembraneSearchRadius * bbox_diagonal);
     const double floor = remeshed ? 0.0 : report.wall_thickness;
     report.h_min = options.h_min > 0 ? options.h_min : std::max(mean_edge_length(surface), floor);
   }
@@ -912,16 +917,20 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
   const TriangleBvh& coarsening_bvh = remeshed_bvh ? *remeshed_bvh : input_bvh;
   // Thin walls predicted: the first mesh is sized by thickness, and is the only one.
   PipelineOptions first = options;
+  std::unique_ptr<CoarseningInput> prepared;
   if (thickness_retry_possible(options) && options.predict_thin_walls) {
     const ThinWallPredictionReport predicted = timed_stage(result, progress, "predict thin walls", [&] {
-      return predict_thin_walls(result.coarsening_input(), coarsening_bvh, options, options.eps,
-                                result.input_summary.bbox_diagonal, !result.remeshed.triangles.empty());
+      // The coarsening's set-up (features, curvature), made once for this and the first coarsening.
+      prepared = std::make_unique<CoarseningInput>(result.coarsening_input(), coarsen_options_for(options, options.eps),
+                                                   &coarsening_bvh);
+      return predict_thin_walls(*prepared, options, options.eps, result.input_summary.bbox_diagonal,
+                                !result.remeshed.triangles.empty());
     });
     if (predicted.thickness_ratio > 0) first.thickness_ratio = predicted.thickness_ratio, first.dice = predicted.dice;
     if (predicted.membrane) first.edit_boundary_tets = false, first.h_min = predicted.h_min;
   }
   const size_t shared_stages = result.stages.size();
-  mesh_verified_input(result, input_bvh, coarsening_bvh, first, progress);
+  mesh_verified_input(result, input_bvh, coarsening_bvh, first, progress, std::move(prepared));
   if (first.thickness_ratio <= 0 && thickness_retry_possible(options) && poor_hexes(result) &&
       thin_walls_likely_cause(result))
     retry_sized_by_thickness(result, shared_stages, input_bvh, coarsening_bvh, options, progress);

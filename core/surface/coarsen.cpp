@@ -19,7 +19,7 @@
 #include <algorithm>
 #include <chrono>
 #include <exception>
-#include <optional>
+#include <stdexcept>
 
 #include <Eigen/Geometry>
 
@@ -379,17 +379,51 @@ size_t cap_by_wall_thickness(const TriSurface& input, const SurfaceMesh& input_m
   return thin;
 }
 
+void require_feature_angle(const CoarseningInput& input, const CoarsenOptions& options) {
+  if (options.feature_angle_deg != input.feature_angle_deg())
+    throw std::invalid_argument("coarsening: the prepared input's feature angle is not the options' one");
+}
+
 }  // namespace
+
+CoarseningInput::CoarseningInput(const TriSurface& input, const CoarsenOptions& options, const TriangleBvh* bvh)
+    : input_(input), bvh_(bvh), feature_angle_deg_(options.feature_angle_deg) {
+  if (input.triangles.empty()) throw InputError("coarsen: the surface has no triangles");
+  fill_openmesh(mesh_, input);
+  // The sizing follows feature lines, not creases; every run starts from a copy with these marks.
+  features_ = mark_features(mesh_, feature_angle_deg_);
+  const AutomaticSizeBounds automatic = automatic_size_bounds(mesh_);
+  mean_edge_ = automatic.mean_edge;
+  half_diagonal_ = automatic.half_diagonal;
+  radii_ = osculating_radii(mesh_);
+  made_eps_ = options.eps, made_h_min_ = options.h_min, made_h_max_ = options.h_max;
+  made_gradation_ = options.gradation;
+  sizes_ = sizing_from_radii(mesh_, radii_, size_bounds(options), sizing_options(options));
+  if (!bvh_) own_bvh_ = std::make_unique<TriangleBvh>(input);
+}
+
+std::pair<double, double> CoarseningInput::size_bounds(const CoarsenOptions& options) const {
+  return sizing_bounds(AutomaticSizeBounds{mean_edge_, half_diagonal_}, sizing_options(options));
+}
+
+std::vector<double> CoarseningInput::sizes(const CoarsenOptions& options) const {
+  if (options.eps == made_eps_ && options.h_min == made_h_min_ && options.h_max == made_h_max_ &&
+      options.gradation == made_gradation_)
+    return sizes_;
+  return sizing_from_radii(mesh_, radii_, size_bounds(options), sizing_options(options));
+}
 
 size_t count_thin_wall_vertices(const TriSurface& input, const CoarsenOptions& options) {
   if (input.triangles.empty()) return 0;
-  SurfaceMesh input_mesh = to_openmesh(input);
-  mark_features(input_mesh, options.feature_angle_deg);
-  const CurvatureSizingOptions sizing = sizing_options(options);
-  const double h_min = sizing_bounds(input_mesh, sizing).first;
-  std::vector<double> h = curvature_sizing(input_mesh, sizing);
+  return count_thin_wall_vertices(CoarseningInput(input, options), options);
+}
+
+size_t count_thin_wall_vertices(const CoarseningInput& input, const CoarsenOptions& options) {
+  require_feature_angle(input, options);
+  std::vector<double> h = input.sizes(options);
   const double ratio = options.max_size_per_thickness > 0 ? options.max_size_per_thickness : 1.0;
-  return cap_by_wall_thickness(input, input_mesh, TriangleBvh(input), ratio, options.gradation, h_min, false, h);
+  return cap_by_wall_thickness(input.surface(), input.mesh(), input.bvh(), ratio, options.gradation,
+                               input.size_bounds(options).first, false, h);
 }
 
 std::vector<std::array<int, 2>> self_intersections(const TriSurface& surface) {
@@ -402,27 +436,28 @@ std::vector<std::array<int, 2>> self_intersections(const TriSurface& surface) {
   return pairs;
 }
 
-CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options, const TriangleBvh* given_bvh) {
+CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options, const TriangleBvh* input_bvh) {
   const auto start = std::chrono::steady_clock::now();
+  CoarsenResult result = coarsen(CoarseningInput(input, options, input_bvh), options);
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+CoarsenResult coarsen(const CoarseningInput& prepared, const CoarsenOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  require_feature_angle(prepared, options);
+  const TriSurface& input = prepared.surface();
+  const SurfaceMesh& input_mesh = prepared.mesh();
+  const TriangleBvh& input_bvh = prepared.bvh();
   CoarsenResult result;
   result.input_vertices = input.points.size();
-  if (input.triangles.empty()) throw InputError("coarsen: the surface has no triangles");
-
-  // Sizing field and features on the input.
-  SurfaceMesh input_mesh = to_openmesh(input);
-  // The sizing follows feature lines, not creases; every run starts from a copy with these marks.
-  const Features features = mark_features(input_mesh, options.feature_angle_deg);
-  const CurvatureSizingOptions sizing = sizing_options(options);
-  std::tie(result.h_min, result.h_max) = sizing_bounds(input_mesh, sizing);
-  std::vector<double> h = curvature_sizing(input_mesh, sizing);
-  std::optional<TriangleBvh> own_bvh;
-  if (!given_bvh) own_bvh.emplace(input);
-  const TriangleBvh& input_bvh = given_bvh ? *given_bvh : *own_bvh;
+  std::tie(result.h_min, result.h_max) = prepared.size_bounds(options);
+  std::vector<double> h = prepared.sizes(options);
   if (options.max_size_per_thickness > 0)
     result.thin_wall_vertices = cap_by_wall_thickness(input, input_mesh, input_bvh, options.max_size_per_thickness,
                                                       options.gradation, result.h_min, true, h);
-  result.feature_edges = features.edges.size();
-  result.feature_corners = features.corners.size();
+  result.feature_edges = prepared.features().edges.size();
+  result.feature_corners = prepared.features().corners.size();
 
   std::vector<char> locked(input.points.size(), 0), halve(input.points.size(), 0);
   RunOutput run;

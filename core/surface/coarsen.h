@@ -4,12 +4,14 @@
 // local smoothing pulled back onto the input, and a self-intersection repair loop.
 #pragma once
 
+#include <dthex/mesh/surface_mesh.h>
 #include <dthex/mesh/triangle_bvh.h>
 #include <dthex/mesh/types.h>
 #include <dthex/surface/features.h>
 
 #include <cmath>
 #include <functional>
+#include <memory>
 
 namespace dthex {
 
@@ -80,12 +82,56 @@ struct CoarsenResult {
   double seconds = 0;             //!< wall time of coarsen()
 };
 
+//! What every coarsening of one input shares whatever its eps, size bounds and thickness cap:
+//! the input as an OpenMesh mesh with its feature marks, its osculating radii and automatic
+//! size bounds, a tree over it, and the sizing field of the options it was made for. Made
+//! once, it serves the thin-wall count and the coarsenings of a run, which would otherwise
+//! each make it again: on a million triangles that costs about as much as reading them.
+//! Holds references to the input (and the given tree), which must outlive it; not copyable.
+class CoarseningInput {
+ public:
+  //! `options`: its feature angle is the one every use must have; its eps and size bounds
+  //! those whose sizing field is made here (others are made from the radii when asked for).
+  //! `bvh`, when given, is a tree over `input` the caller already has; else one is built.
+  explicit CoarseningInput(const TriSurface& input, const CoarsenOptions& options = {},
+                           const TriangleBvh* bvh = nullptr);
+  CoarseningInput(const CoarseningInput&) = delete;
+  CoarseningInput& operator=(const CoarseningInput&) = delete;
+
+  const TriSurface& surface() const { return input_; }
+  const TriangleBvh& bvh() const { return bvh_ ? *bvh_ : *own_bvh_; }
+  //! The input with edge and vertex feature marks (mark_features at the feature angle).
+  const SurfaceMesh& mesh() const { return mesh_; }
+  const Features& features() const { return features_; }
+  double feature_angle_deg() const { return feature_angle_deg_; }
+  //! h_min and h_max for these options, their automatic (0) values resolved on the input.
+  std::pair<double, double> size_bounds(const CoarsenOptions& options) const;
+  //! The curvature sizing field (per input vertex, before any thickness cap) at these
+  //! options' eps, size bounds and gradation: the one made at construction when they match.
+  std::vector<double> sizes(const CoarsenOptions& options) const;
+
+ private:
+  const TriSurface& input_;
+  const TriangleBvh* bvh_;
+  std::unique_ptr<TriangleBvh> own_bvh_;
+  SurfaceMesh mesh_;
+  Features features_;
+  double feature_angle_deg_;
+  std::vector<double> radii_;
+  double mean_edge_ = 0, half_diagonal_ = 0;
+  double made_eps_, made_h_min_, made_h_max_, made_gradation_;  //!< what sizes_ were made at
+  std::vector<double> sizes_;
+};
+
 //! Coarsens a verified closed surface. Throws MeshingError if the result still
 //! self-intersects after max_repair_rounds (it never returns an intersecting surface).
 //! `input_bvh`, when given, is a tree over `input` the caller already has, so that it is not
 //! built again.
 CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options = {},
                       const TriangleBvh* input_bvh = nullptr);
+//! The same from a prepared input (whose feature angle must be options'; std::invalid_argument
+//! otherwise).
+CoarsenResult coarsen(const CoarseningInput& input, const CoarsenOptions& options);
 
 struct GlobalSmoothingOptions {
   size_t max_iterations = 100;
@@ -109,6 +155,8 @@ size_t global_smoothing(TriSurface& coarse, const TriSurface& input, const Globa
 //! is on: it costs a large share of the coarsening, so a run measures it only to explain
 //! poor hexes.
 size_t count_thin_wall_vertices(const TriSurface& input, const CoarsenOptions& options);
+//! The same from a prepared input (whose feature angle must be options').
+size_t count_thin_wall_vertices(const CoarseningInput& input, const CoarsenOptions& options);
 
 //! Pairs (a < b) of triangles that intersect other than in shared vertices/edges
 //! (non-coplanar crossings, and folded triangles on a shared edge).

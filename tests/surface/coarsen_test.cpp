@@ -418,3 +418,31 @@ TEST(Coarsen, RoughPassDoesMostCollapsesAndGivesTheSameKindOfSurface) {
   EXPECT_LT(turn_rough, 75.0);
   check_coarse_surface(input, rough, "femur_proximal_ct.off");
 }
+
+// One prepared input serves several coarsenings and thin-wall counts: each gives bit for bit
+// what it gives with a set-up of its own, at the eps the input was prepared for, at another
+// (whose sizes are made again from the radii) and with the thickness cap.
+TEST(Coarsen, PreparedInputGivesWhatEachRunMakesAlone) {
+  const TriSurface input = load("vertebra_L1.off");
+  CoarsenOptions prepared_for;
+  CoarsenOptions coarser = prepared_for;
+  coarser.eps = 0.3;
+  CoarsenOptions capped = prepared_for;
+  capped.max_size_per_thickness = 1;
+  const CoarseningInput prepared(input, prepared_for);
+  std::vector<size_t> vertices;
+  for (const CoarsenOptions& options : {prepared_for, coarser, capped}) {
+    const CoarsenResult alone = coarsen(input, options), shared = coarsen(prepared, options);
+    EXPECT_TRUE(shared.surface.points == alone.surface.points);
+    EXPECT_EQ(shared.surface.triangles, alone.surface.triangles);
+    EXPECT_EQ(shared.sizes, alone.sizes);
+    EXPECT_EQ(shared.thin_wall_vertices, alone.thin_wall_vertices);
+    EXPECT_EQ(count_thin_wall_vertices(prepared, options), count_thin_wall_vertices(input, options));
+    vertices.push_back(shared.surface.points.size());
+  }
+  EXPECT_LT(vertices[1], vertices[0]);  // the other eps was not given the prepared sizes
+  EXPECT_GT(count_thin_wall_vertices(prepared, capped), 0u);
+  CoarsenOptions other_angle = prepared_for;
+  other_angle.feature_angle_deg = 30;
+  EXPECT_THROW(coarsen(prepared, other_angle), std::invalid_argument);
+}
