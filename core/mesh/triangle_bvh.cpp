@@ -5,6 +5,7 @@
 #include <dthex/mesh/triangle_bvh.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace dthex {
@@ -23,6 +24,18 @@ double half_area(const Eigen::AlignedBox3d& box) {
 //! Boxes that only touch count as overlapping: triangles sharing a vertex must be reported.
 bool boxes_overlap(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b) {
   return (a.min().array() <= b.max().array()).all() && (b.min().array() <= a.max().array()).all();
+}
+
+//! Whether every unit normal n in node `index`'s box has n . direction >= max_cos (with a
+//! margin far above the rounding of either side), so that no triangle there is accepted.
+bool faces_away(const TriangleBvh::Facing* facing, int index) {
+  const std::array<float, 6>& b = (*facing->bounds)[size_t(index)];
+  double smallest = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double d = facing->direction[k];
+    smallest += std::min(double(b[size_t(k)]) * d, double(b[size_t(k) + 3]) * d);
+  }
+  return smallest > facing->max_cos + 1e-6;
 }
 
 }  // namespace
@@ -199,8 +212,40 @@ TriangleBvh::ClosestPoint TriangleBvh::closest_point(const Vec3& q,
 }
 
 TriangleBvh::ClosestPoint TriangleBvh::closest_point_within(const Vec3& q, double max_distance,
-                                                            const std::function<bool(int)>& accept) const {
-  return search(q, accept ? &accept : nullptr, -1, max_distance * max_distance);
+                                                            const std::function<bool(int)>& accept,
+                                                            const Facing* facing) const {
+  return search(q, accept ? &accept : nullptr, -1, max_distance * max_distance, facing);
+}
+
+TriangleBvh::NormalBounds TriangleBvh::normal_bounds() const {
+  NormalBounds bounds(nodes_.size());
+  // Children come after their parent in nodes_: from the back, each node's children are done.
+  for (size_t i = nodes_.size(); i-- > 0;) {
+    const Node& node = nodes_[i];
+    std::array<float, 6>& b = bounds[i];
+    if (node.left >= 0) {
+      const auto &l = bounds[size_t(node.left)], &r = bounds[size_t(node.right)];
+      for (int k = 0; k < 3; ++k) {
+        b[size_t(k)] = std::min(l[size_t(k)], r[size_t(k)]);
+        b[size_t(k) + 3] = std::max(l[size_t(k) + 3], r[size_t(k) + 3]);
+      }
+      continue;
+    }
+    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (int k = node.first; k < node.first + node.count; ++k) {
+      const auto& t = triangles_[size_t(order_[size_t(k)])];
+      const Vec3 cross = (points_[size_t(t[1])] - points_[size_t(t[0])]).cross(points_[size_t(t[2])] - points_[size_t(t[0])]);
+      const double length = cross.norm();
+      const Vec3 normal = length > 0 ? Vec3(cross / length) : Vec3::Zero();
+      lo = lo.cwiseMin(normal);
+      hi = hi.cwiseMax(normal);
+    }
+    for (int k = 0; k < 3; ++k) {
+      b[size_t(k)] = std::nextafter(float(lo[k]), -2.0f);
+      b[size_t(k) + 3] = std::nextafter(float(hi[k]), 2.0f);
+    }
+  }
+  return bounds;
 }
 
 TriangleBvh::ClosestPoint TriangleBvh::closest_point_near(const Vec3& q, int hint) const {
@@ -208,7 +253,7 @@ TriangleBvh::ClosestPoint TriangleBvh::closest_point_near(const Vec3& q, int hin
 }
 
 TriangleBvh::ClosestPoint TriangleBvh::search(const Vec3& q, const std::function<bool(int)>* accept, int hint,
-                                              double max_distance_sq) const {
+                                              double max_distance_sq, const Facing* facing) const {
   ClosestPoint best;
   best.distance_sq = max_distance_sq;
   if (nodes_.empty()) {
@@ -236,6 +281,7 @@ TriangleBvh::ClosestPoint TriangleBvh::search(const Vec3& q, const std::function
     const auto [index, box_distance_sq] = stack.back();
     stack.pop_back();
     if (box_distance_sq > best.distance_sq) continue;
+    if (facing && faces_away(facing, index)) continue;
     const Node& node = nodes_[size_t(index)];
     if (node.left < 0) {
       for (int k = node.first; k < node.first + node.count; ++k) {

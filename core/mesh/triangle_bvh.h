@@ -6,8 +6,10 @@
 #include <dthex/mesh/types.h>
 
 #include <Eigen/Geometry>
+#include <array>
 #include <functional>
 #include <limits>
+#include <vector>
 
 namespace dthex {
 
@@ -28,9 +30,24 @@ class TriangleBvh {
   //! Closest point among the triangles for which accept(triangle) is true
   //! (e.g. only triangles whose normal faces the same way as a coarse facet).
   ClosestPoint closest_point(const Vec3& q, const std::function<bool(int)>& accept) const;
+  //! Per tree node, the box of its triangles' unit normals ((b - a) x (c - a) normalized, zero
+  //! for a degenerate triangle), rounded outward to single precision (24 bytes a node).
+  //! Made on demand, for searches that take only triangles facing one way (Facing).
+  using NormalBounds = std::vector<std::array<float, 6>>;
+  NormalBounds normal_bounds() const;
+  //! A promise about `accept` that lets a search skip every subtree whose triangles all face
+  //! the wrong way without asking it: accept(t) is false whenever unit_normal(t) . direction
+  //! >= max_cos. The answer is the same as without it (only time is saved).
+  struct Facing {
+    const NormalBounds* bounds = nullptr;  //!< normal_bounds() of this tree
+    Vec3 direction = Vec3::Zero();
+    double max_cos = 0;
+  };
+
   //! Closest accepted point no further than `max_distance` from q (triangle -1 if there is
   //! none): the search never leaves that ball, however far the nearest accepted triangle is.
-  ClosestPoint closest_point_within(const Vec3& q, double max_distance, const std::function<bool(int)>& accept) const;
+  ClosestPoint closest_point_within(const Vec3& q, double max_distance, const std::function<bool(int)>& accept,
+                                    const Facing* facing = nullptr) const;
   //! Closest point of the whole surface to q, starting from triangle `hint` (e.g. the
   //! answer for a nearby point): its distance bounds the search, so coherent query
   //! sequences visit far fewer boxes. The distance found does not depend on the hint.
@@ -54,7 +71,8 @@ class TriangleBvh {
 
  private:
   ClosestPoint search(const Vec3& q, const std::function<bool(int)>* accept, int hint,
-                      double max_distance_sq = std::numeric_limits<double>::infinity()) const;
+                      double max_distance_sq = std::numeric_limits<double>::infinity(),
+                      const Facing* facing = nullptr) const;
   //! One step of the simultaneous descent of for_each_overlapping_pair: the parts that
   //! (ia, ib) splits into go to `out`; false if it is a pair of leaves (or a leaf with
   //! itself), whose triangle pairs are visited directly.

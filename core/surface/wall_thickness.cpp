@@ -28,6 +28,8 @@ std::vector<double> inner_wall_radii(const TriSurface& surface, const TriangleBv
   const double outward_sign = volume6 >= 0 ? 1.0 : -1.0;
   for (Vec3& normal : triangle_normal) normal *= outward_sign;
   const double opposite_cos = std::cos(options.opposite_angle_deg * M_PI / 180.0);
+  // Near the vertex every triangle faces its way: the searches skip such parts of the tree.
+  const TriangleBvh::NormalBounds normal_bounds = bvh.normal_bounds();
 
 #pragma omp parallel for schedule(dynamic, 256)
   for (long i = 0; i < long(n); ++i) {
@@ -39,10 +41,11 @@ std::vector<double> inner_wall_radii(const TriSurface& surface, const TriangleBv
     const Vec3& p = surface.points[v];
     // A triangle of the opposite wall faces back at the vertex.
     const auto opposite = [&](int t) { return triangle_normal[size_t(t)].dot(outward) < opposite_cos; };
+    const TriangleBvh::Facing facing{&normal_bounds, outward * outward_sign, opposite_cos};
     for (int step = 0; step < options.max_steps; ++step) {
       // Only a point inside the ball matters: the search stays within it (the nearest
       // opposite triangle can be across the whole model, and finding it is slow).
-      const TriangleBvh::ClosestPoint cp = bvh.closest_point_within(p + r * inward, r * (1 - 1e-9), opposite);
+      const TriangleBvh::ClosestPoint cp = bvh.closest_point_within(p + r * inward, r * (1 - 1e-9), opposite, &facing);
       if (cp.triangle < 0) break;  // the ball is empty
       // The ball tangent at p through the point found: |p + s m - q| = s.
       const Vec3 d = cp.point - p;

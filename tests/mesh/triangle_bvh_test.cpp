@@ -111,6 +111,44 @@ TEST(TriangleBvh, AcceptFilterRestrictsTheSearch) {
   EXPECT_EQ(none.triangle, -1);
 }
 
+// A facing bound consistent with the accept test (only triangles facing against a direction)
+// changes no answer, and the search then asks the accept test about far fewer triangles: the
+// subtrees that face the other way are skipped whole.
+TEST(TriangleBvh, FacingBoundSkipsSubtreesButChangesNoAnswer) {
+  const TriSurface sphere = uv_sphere(40, 64);
+  const TriangleBvh bvh(sphere);
+  const TriangleBvh::NormalBounds bounds = bvh.normal_bounds();
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-1.5, 1.5), radius(0.05, 2.0);
+  size_t asked_with = 0, asked_without = 0;
+  int found = 0;
+  for (int i = 0; i < 300; ++i) {
+    const Vec3 direction = Vec3(u(rng), u(rng), u(rng)).normalized();
+    const double max_cos = i % 2 ? -0.5 : 0.3;
+    size_t* asked = nullptr;
+    const std::function<bool(int)> facing_against = [&](int t) {
+      ++*asked;
+      const auto& tri = sphere.triangles[size_t(t)];
+      const Vec3 a = sphere.points[size_t(tri[0])];
+      const Vec3 n = (sphere.points[size_t(tri[1])] - a).cross(sphere.points[size_t(tri[2])] - a).normalized();
+      return n.dot(direction) < max_cos;
+    };
+    const TriangleBvh::Facing facing{&bounds, direction, max_cos};
+    const Vec3 q(u(rng), u(rng), u(rng));
+    const double r = radius(rng);
+    asked = &asked_without;
+    const auto plain = bvh.closest_point_within(q, r, facing_against);
+    asked = &asked_with;
+    const auto pruned = bvh.closest_point_within(q, r, facing_against, &facing);
+    ASSERT_EQ(pruned.triangle, plain.triangle) << "query " << i;
+    EXPECT_EQ(pruned.distance_sq, plain.distance_sq);
+    EXPECT_TRUE(pruned.point == plain.point);
+    found += plain.triangle >= 0;
+  }
+  EXPECT_GT(found, 100);
+  EXPECT_LT(2 * asked_with, asked_without);
+}
+
 TEST(TriangleBvh, SearchWithinARadiusFindsWhatIsInsideAndNothingElse) {
   const TriSurface sphere = uv_sphere(20, 32);
   const TriangleBvh bvh(sphere);
