@@ -280,12 +280,15 @@ DecimationCounts decimate_prepared(SurfaceMesh& mesh, const InputSurface& surfac
 
 //! Decimates `whole` in two halves at once, one per core, then the joined mesh, which only
 //! has the cut left to remove; the result goes to `joined`. False if it cannot be split.
-//! `whole` itself is not copied: the run's sizes and locks travel in `extras`.
+//! `whole` itself is not copied: the run's sizes and locks travel in `extras`. `cut_ahead`:
+//! `whole` already cut (split_connectivity), or null.
 bool decimate_in_halves(const SurfaceMesh& whole, const SplitExtras& extras, const InputSurface& surface,
                         const CoarsenOptions& options, bool rough, SurfaceMesh& joined, DecimationCounts& counts,
-                        size_t& cut_vertices) {
-  SurfaceHalves split;
-  if (!split_in_halves(whole, split, extras)) return false;
+                        size_t& cut_vertices, SurfaceHalves* cut_ahead) {
+  SurfaceHalves own;
+  SurfaceHalves& split = cut_ahead ? *cut_ahead : own;
+  if (cut_ahead) mark_halves(whole, split, extras);
+  else if (!split_in_halves(whole, split, extras)) return false;
   cut_vertices = split.cut_vertices;
   DecimationCounts half_counts[2];
   std::exception_ptr failure[2];
@@ -312,8 +315,10 @@ bool decimate_in_halves(const SurfaceMesh& whole, const SplitExtras& extras, con
   return true;
 }
 
+//! `cut_ahead`: input_mesh already cut (split_connectivity), or null.
 RunOutput run_once(const SurfaceMesh& input_mesh, const TriSurface& input, const TriangleBvh& input_bvh,
-                   const std::vector<double>& h, const std::vector<char>& locked, const CoarsenOptions& options) {
+                   const std::vector<double>& h, const std::vector<char>& locked, const CoarsenOptions& options,
+                   std::unique_ptr<SurfaceHalves> cut_ahead) {
   const InputSurface surface(input, input_bvh, &h);
   DecimationCounts counts;
   RunOutput out;
@@ -321,7 +326,8 @@ RunOutput run_once(const SurfaceMesh& input_mesh, const TriSurface& input, const
   const bool rough = options.rough_pass_from_vertices > 0 && input_mesh.n_vertices() >= options.rough_pass_from_vertices;
   const bool halves =
       options.split_from_vertices > 0 && input_mesh.n_vertices() >= options.split_from_vertices &&
-      decimate_in_halves(input_mesh, SplitExtras{&h, &locked}, surface, options, rough, mesh, counts, out.cut_vertices);
+      decimate_in_halves(input_mesh, SplitExtras{&h, &locked}, surface, options, rough, mesh, counts, out.cut_vertices,
+                         cut_ahead.get());
   if (!halves) {
     // The copy keeps the input's feature and corner marks (coarsen() made them).
     mesh = input_mesh;
@@ -386,19 +392,43 @@ void require_feature_angle(const CoarseningInput& input, const CoarsenOptions& o
 
 }  // namespace
 
-CoarseningInput::CoarseningInput(const TriSurface& input, const CoarsenOptions& options, const TriangleBvh* bvh)
+CoarseningInput::CoarseningInput(const TriSurface& input, const CoarsenOptions& options, const TriangleBvh* bvh,
+                                 bool cut_ahead)
     : input_(input), bvh_(bvh), feature_angle_deg_(options.feature_angle_deg) {
   if (input.triangles.empty()) throw InputError("coarsen: the surface has no triangles");
   fill_openmesh(mesh_, input);
   // The sizing follows feature lines, not creases; every run starts from a copy with these marks.
   features_ = mark_features(mesh_, feature_angle_deg_);
-  const AutomaticSizeBounds automatic = automatic_size_bounds(mesh_);
-  mean_edge_ = automatic.mean_edge;
-  half_diagonal_ = automatic.half_diagonal;
-  radii_ = osculating_radii(mesh_);
   made_eps_ = options.eps, made_h_min_ = options.h_min, made_h_max_ = options.h_max;
   made_gradation_ = options.gradation;
-  sizes_ = sizing_from_radii(mesh_, radii_, size_bounds(options), sizing_options(options));
+  // The sizes and the halves only read mesh_ from here on: one core each. An exception must
+  // not leave the parallel region (out of memory there ended the program).
+  cut_ahead = cut_ahead && options.split_from_vertices > 0 && mesh_.n_vertices() >= options.split_from_vertices;
+  std::exception_ptr failure[2];
+#pragma omp parallel sections num_threads(2) if (cut_ahead)
+  {
+#pragma omp section
+    try {
+      const AutomaticSizeBounds automatic = automatic_size_bounds(mesh_);
+      mean_edge_ = automatic.mean_edge;
+      half_diagonal_ = automatic.half_diagonal;
+      radii_ = osculating_radii(mesh_);
+      sizes_ = sizing_from_radii(mesh_, radii_, size_bounds(options), sizing_options(options));
+    } catch (...) {
+      failure[0] = std::current_exception();
+    }
+#pragma omp section
+    try {
+      if (cut_ahead) {
+        auto halves = std::make_unique<SurfaceHalves>();
+        if (split_connectivity(mesh_, *halves)) halves_ = std::move(halves);
+      }
+    } catch (...) {
+      failure[1] = std::current_exception();
+    }
+  }
+  for (const auto& f : failure)
+    if (f) std::rethrow_exception(f);
   if (!bvh_) own_bvh_ = std::make_unique<TriangleBvh>(input);
 }
 
@@ -415,7 +445,7 @@ std::vector<double> CoarseningInput::sizes(const CoarsenOptions& options) const 
 
 size_t count_thin_wall_vertices(const TriSurface& input, const CoarsenOptions& options) {
   if (input.triangles.empty()) return 0;
-  return count_thin_wall_vertices(CoarseningInput(input, options), options);
+  return count_thin_wall_vertices(CoarseningInput(input, options, nullptr, false), options);
 }
 
 size_t count_thin_wall_vertices(const CoarseningInput& input, const CoarsenOptions& options) {
@@ -438,12 +468,13 @@ std::vector<std::array<int, 2>> self_intersections(const TriSurface& surface) {
 
 CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options, const TriangleBvh* input_bvh) {
   const auto start = std::chrono::steady_clock::now();
-  CoarsenResult result = coarsen(CoarseningInput(input, options, input_bvh), options);
+  CoarseningInput prepared(input, options, input_bvh);
+  CoarsenResult result = coarsen(prepared, options);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 
-CoarsenResult coarsen(const CoarseningInput& prepared, const CoarsenOptions& options) {
+CoarsenResult coarsen(CoarseningInput& prepared, const CoarsenOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   require_feature_angle(prepared, options);
   const TriSurface& input = prepared.surface();
@@ -462,7 +493,7 @@ CoarsenResult coarsen(const CoarseningInput& prepared, const CoarsenOptions& opt
   std::vector<char> locked(input.points.size(), 0), halve(input.points.size(), 0);
   RunOutput run;
   for (int round = 0;; ++round) {
-    run = run_once(input_mesh, input, input_bvh, h, locked, options);
+    run = run_once(input_mesh, input, input_bvh, h, locked, options, prepared.take_halves());
     const auto crossings = self_intersections(run.surface);
     if (crossings.empty()) break;
     if (round >= options.max_repair_rounds)

@@ -8,6 +8,7 @@
 #include <dthex/mesh/triangle_bvh.h>
 #include <dthex/mesh/types.h>
 #include <dthex/surface/features.h>
+#include <dthex/surface/split_in_halves.h>
 
 #include <cmath>
 #include <functional>
@@ -87,6 +88,9 @@ struct CoarsenResult {
 //! size bounds, a tree over it, and the sizing field of the options it was made for. Made
 //! once, it serves the thin-wall count and the coarsenings of a run, which would otherwise
 //! each make it again: on a million triangles that costs about as much as reading them.
+//! With `cut_ahead`, an input that will be coarsened in two halves (options'
+//! split_from_vertices) is also cut into them, on the second core while the first measures
+//! the sizes; the first coarsening takes them (see take_halves).
 //! Holds references to the input (and the given tree), which must outlive it; not copyable.
 class CoarseningInput {
  public:
@@ -94,7 +98,7 @@ class CoarseningInput {
   //! those whose sizing field is made here (others are made from the radii when asked for).
   //! `bvh`, when given, is a tree over `input` the caller already has; else one is built.
   explicit CoarseningInput(const TriSurface& input, const CoarsenOptions& options = {},
-                           const TriangleBvh* bvh = nullptr);
+                           const TriangleBvh* bvh = nullptr, bool cut_ahead = true);
   CoarseningInput(const CoarseningInput&) = delete;
   CoarseningInput& operator=(const CoarseningInput&) = delete;
 
@@ -109,6 +113,9 @@ class CoarseningInput {
   //! The curvature sizing field (per input vertex, before any thickness cap) at these
   //! options' eps, size bounds and gradation: the one made at construction when they match.
   std::vector<double> sizes(const CoarsenOptions& options) const;
+  //! The halves cut ahead (split_connectivity of mesh()), once; null if none were, or they
+  //! were taken.
+  std::unique_ptr<SurfaceHalves> take_halves() { return std::move(halves_); }
 
  private:
   const TriSurface& input_;
@@ -121,6 +128,7 @@ class CoarseningInput {
   double mean_edge_ = 0, half_diagonal_ = 0;
   double made_eps_, made_h_min_, made_h_max_, made_gradation_;  //!< what sizes_ were made at
   std::vector<double> sizes_;
+  std::unique_ptr<SurfaceHalves> halves_;
 };
 
 //! Coarsens a verified closed surface. Throws MeshingError if the result still
@@ -130,8 +138,8 @@ class CoarseningInput {
 CoarsenResult coarsen(const TriSurface& input, const CoarsenOptions& options = {},
                       const TriangleBvh* input_bvh = nullptr);
 //! The same from a prepared input (whose feature angle must be options'; std::invalid_argument
-//! otherwise).
-CoarsenResult coarsen(const CoarseningInput& input, const CoarsenOptions& options);
+//! otherwise). Takes the halves it was cut into ahead, if any.
+CoarsenResult coarsen(CoarseningInput& input, const CoarsenOptions& options);
 
 struct GlobalSmoothingOptions {
   size_t max_iterations = 100;

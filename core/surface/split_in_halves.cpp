@@ -42,7 +42,7 @@ bool make_fans_whole(const SurfaceMesh& mesh, std::vector<char>& side, int max_s
 
 }  // namespace
 
-bool split_in_halves(const SurfaceMesh& whole, SurfaceHalves& out, const SplitExtras& extras) {
+bool split_connectivity(const SurfaceMesh& whole, SurfaceHalves& out) {
   out = SurfaceHalves();
   const size_t n_faces = whole.n_faces(), n_vertices = whole.n_vertices();
   if (n_faces < 2) return false;
@@ -66,20 +66,15 @@ bool split_in_halves(const SurfaceMesh& whole, SurfaceHalves& out, const SplitEx
   const size_t on_one = size_t(std::count(side.begin(), side.end(), 1));
   if (on_one == 0 || on_one == n_faces) return false;
 
-  std::vector<char> cut(n_vertices, 0);
+  out.cut.assign(n_vertices, 0);
   for (auto v : whole.vertices()) {
     bool seen[2] = {false, false};
     for (auto f : whole.vf_range(v)) seen[size_t(side[size_t(f.idx())])] = true;
-    cut[size_t(v.idx())] = seen[0] && seen[1];
+    out.cut[size_t(v.idx())] = seen[0] && seen[1];
   }
-  out.cut_vertices = size_t(std::count(cut.begin(), cut.end(), 1));
+  out.cut_vertices = size_t(std::count(out.cut.begin(), out.cut.end(), 1));
 
-  OpenMesh::VPropHandleT<double> whole_size;
-  const bool own_sizes = whole.get_property_handle(whole_size, size_property_name());
-  const bool given_sizes = extras.sizes && extras.sizes->size() == n_vertices;
-  const bool with_sizes = own_sizes || given_sizes;
-  const bool given_locks = extras.locked && extras.locked->size() == n_vertices;
-  // One half; false if its triangles do not make an OpenMesh mesh.
+  // One half's triangles and vertices; false if they do not make an OpenMesh mesh.
   auto build_half = [&](int p) {
     std::vector<int> local(n_vertices, -1);
     std::vector<int>& whole_vertex = out.whole_vertex[size_t(p)];
@@ -100,27 +95,10 @@ bool split_in_halves(const SurfaceMesh& whole, SurfaceHalves& out, const SplitEx
       }
       part.triangles.push_back(corners);
     }
-    SurfaceMesh& half = out.halves[size_t(p)];
     try {
-      fill_openmesh(half, part);
+      fill_openmesh(out.halves[size_t(p)], part);
     } catch (const InputError&) {
       return false;
-    }
-    OpenMesh::VPropHandleT<double> size;
-    if (with_sizes) half.add_property(size, size_property_name());
-    for (auto v : half.vertices()) {
-      const VertexHandle w(whole_vertex[size_t(v.idx())]);
-      half.status(v).set_feature(whole.status(w).feature());
-      const bool extra_lock = given_locks && (*extras.locked)[size_t(w.idx())];
-      half.status(v).set_locked(whole.status(w).locked() || extra_lock || cut[size_t(w.idx())]);
-      if (with_sizes)
-        half.property(size, v) = given_sizes ? (*extras.sizes)[size_t(w.idx())] : whole.property(whole_size, w);
-    }
-    for (auto e : half.edges()) {
-      const auto h = half.halfedge_handle(e, 0);
-      const VertexHandle a(whole_vertex[size_t(half.from_vertex_handle(h).idx())]);
-      const VertexHandle b(whole_vertex[size_t(half.to_vertex_handle(h).idx())]);
-      half.status(e).set_feature(whole.status(whole.edge_handle(whole.find_halfedge(a, b))).feature());
     }
     return true;
   };
@@ -140,6 +118,42 @@ bool split_in_halves(const SurfaceMesh& whole, SurfaceHalves& out, const SplitEx
   for (const auto& f : failure)
     if (f) std::rethrow_exception(f);
   return built[0] && built[1];
+}
+
+void mark_halves(const SurfaceMesh& whole, SurfaceHalves& out, const SplitExtras& extras) {
+  const size_t n_vertices = whole.n_vertices();
+  OpenMesh::VPropHandleT<double> whole_size;
+  const bool own_sizes = whole.get_property_handle(whole_size, size_property_name());
+  const bool given_sizes = extras.sizes && extras.sizes->size() == n_vertices;
+  const bool with_sizes = own_sizes || given_sizes;
+  const bool given_locks = extras.locked && extras.locked->size() == n_vertices;
+  for (int p = 0; p < 2; ++p) {
+    SurfaceMesh& half = out.halves[size_t(p)];
+    const std::vector<int>& whole_vertex = out.whole_vertex[size_t(p)];
+    OpenMesh::VPropHandleT<double> size;
+    if (with_sizes && !half.get_property_handle(size, size_property_name()))
+      half.add_property(size, size_property_name());
+    for (auto v : half.vertices()) {
+      const VertexHandle w(whole_vertex[size_t(v.idx())]);
+      half.status(v).set_feature(whole.status(w).feature());
+      const bool extra_lock = given_locks && (*extras.locked)[size_t(w.idx())];
+      half.status(v).set_locked(whole.status(w).locked() || extra_lock || out.cut[size_t(w.idx())]);
+      if (with_sizes)
+        half.property(size, v) = given_sizes ? (*extras.sizes)[size_t(w.idx())] : whole.property(whole_size, w);
+    }
+    for (auto e : half.edges()) {
+      const auto h = half.halfedge_handle(e, 0);
+      const VertexHandle a(whole_vertex[size_t(half.from_vertex_handle(h).idx())]);
+      const VertexHandle b(whole_vertex[size_t(half.to_vertex_handle(h).idx())]);
+      half.status(e).set_feature(whole.status(whole.edge_handle(whole.find_halfedge(a, b))).feature());
+    }
+  }
+}
+
+bool split_in_halves(const SurfaceMesh& whole, SurfaceHalves& out, const SplitExtras& extras) {
+  if (!split_connectivity(whole, out)) return false;
+  mark_halves(whole, out, extras);
+  return true;
 }
 
 SurfaceMesh join_halves(const SurfaceHalves& in, const SurfaceMesh& whole, const SplitExtras& extras) {

@@ -16,6 +16,8 @@ struct SurfaceHalves {
   std::array<SurfaceMesh, 2> halves;
   //! Per half, the index in the whole mesh of each of its vertices.
   std::array<std::vector<int>, 2> whole_vertex;
+  //! Per vertex of the whole mesh: 1 on the cut (in both halves).
+  std::vector<char> cut;
   size_t cut_vertices = 0;
 };
 
@@ -34,6 +36,16 @@ struct SplitExtras {
 //! `extras`' sizes), are copied; the vertices on the cut are locked in both halves. False,
 //! with `halves` left unspecified, if no such split exists (e.g. a side ends up empty).
 bool split_in_halves(const SurfaceMesh& whole, SurfaceHalves& halves, const SplitExtras& extras = {});
+
+//! split_in_halves in two steps. The first makes the halves' triangles and vertices (no status
+//! bits, no sizes) and reads only `whole`'s connectivity and points, so it can run while
+//! another thread reads `whole` too: the coarsening measures its sizes meanwhile. It also
+//! works on both cores when called outside a parallel region.
+bool split_connectivity(const SurfaceMesh& whole, SurfaceHalves& halves);
+//! The second: status bits (features, locks, and the cut's locks) and sizes from `whole` and
+//! `extras`, as split_in_halves gives them, on halves that split_connectivity made of `whole`
+//! and that have not been changed since.
+void mark_halves(const SurfaceMesh& whole, SurfaceHalves& halves, const SplitExtras& extras = {});
 
 //! The live triangles of both halves as one mesh, vertices in the order of `whole` (the
 //! deleted ones left out). Vertex status comes from `whole` and `extras`' locks (the cut's

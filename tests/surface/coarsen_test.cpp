@@ -420,19 +420,22 @@ TEST(Coarsen, RoughPassDoesMostCollapsesAndGivesTheSameKindOfSurface) {
 }
 
 // One prepared input serves several coarsenings and thin-wall counts: each gives bit for bit
-// what it gives with a set-up of its own, at the eps the input was prepared for, at another
-// (whose sizes are made again from the radii) and with the thickness cap.
+// what it gives with a set-up of its own that was not cut in halves ahead, at the eps the
+// input was prepared for (the run that takes the halves cut ahead), at another (whose sizes
+// are made again from the radii) and with the thickness cap.
 TEST(Coarsen, PreparedInputGivesWhatEachRunMakesAlone) {
   const TriSurface input = load("vertebra_L1.off");
   CoarsenOptions prepared_for;
+  ASSERT_GE(input.points.size(), prepared_for.split_from_vertices);  // coarsened in halves
   CoarsenOptions coarser = prepared_for;
   coarser.eps = 0.3;
   CoarsenOptions capped = prepared_for;
   capped.max_size_per_thickness = 1;
-  const CoarseningInput prepared(input, prepared_for);
+  CoarseningInput prepared(input, prepared_for);
   std::vector<size_t> vertices;
   for (const CoarsenOptions& options : {prepared_for, coarser, capped}) {
-    const CoarsenResult alone = coarsen(input, options), shared = coarsen(prepared, options);
+    CoarseningInput own(input, options, nullptr, false);
+    const CoarsenResult alone = coarsen(own, options), shared = coarsen(prepared, options);
     EXPECT_TRUE(shared.surface.points == alone.surface.points);
     EXPECT_EQ(shared.surface.triangles, alone.surface.triangles);
     EXPECT_EQ(shared.sizes, alone.sizes);

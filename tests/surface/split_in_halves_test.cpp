@@ -10,6 +10,8 @@
 
 #include <dthex/modules/DTHexGeometry.hh>
 
+#include "boundary_fixtures.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -224,4 +226,44 @@ TEST(SplitInHalves, GivenSizesAndLocksTravelWithTheirVertices) {
     EXPECT_EQ(joined.property(size, v), sizes[size_t(v.idx())]);
     EXPECT_EQ(joined.status(v).locked(), whole.status(v).locked() || locked[size_t(v.idx())]);
   }
+}
+
+// Cut first and marked later (as the coarsening does while it measures the sizes), the halves
+// are those split_in_halves makes at once: the same triangles in the same order, vertices,
+// status bits and sizes, edge features (a box has them on its twelve edges).
+TEST(SplitInHalves, CutFirstAndMarkedLaterGivesTheSameHalves) {
+  const SurfaceMesh whole = prepared(dthex::testing::box_surface(Vec3(0, 0, 0), Vec3(3, 2, 1), {30, 20, 10}));
+  std::vector<double> sizes(whole.n_vertices());
+  std::vector<char> locked(whole.n_vertices(), 0);
+  for (size_t v = 0; v < sizes.size(); ++v) {
+    sizes[v] = 1000.0 + double(v);
+    locked[v] = v % 5 == 0;
+  }
+  const SplitExtras extras{&sizes, &locked};
+  SurfaceHalves at_once, in_two_steps;
+  ASSERT_TRUE(split_in_halves(whole, at_once, extras));
+  ASSERT_TRUE(split_connectivity(whole, in_two_steps));
+  mark_halves(whole, in_two_steps, extras);
+  EXPECT_EQ(in_two_steps.cut_vertices, at_once.cut_vertices);
+  EXPECT_GT(at_once.cut_vertices, 0u);
+  size_t feature_edges = 0;
+  for (int p = 0; p < 2; ++p) {
+    const SurfaceMesh &a = at_once.halves[size_t(p)], &b = in_two_steps.halves[size_t(p)];
+    EXPECT_EQ(in_two_steps.whole_vertex[size_t(p)], at_once.whole_vertex[size_t(p)]);
+    const TriSurface sa = from_openmesh(a), sb = from_openmesh(b);
+    EXPECT_EQ(sb.triangles, sa.triangles);
+    EXPECT_TRUE(sb.points == sa.points);
+    OpenMesh::VPropHandleT<double> size_a, size_b;
+    ASSERT_TRUE(a.get_property_handle(size_a, size_property_name()));
+    ASSERT_TRUE(b.get_property_handle(size_b, size_property_name()));
+    size_t differ = 0;
+    for (auto v : a.vertices())
+      differ += a.status(v).bits() != b.status(v).bits() || a.property(size_a, v) != b.property(size_b, v);
+    for (auto e : a.edges()) {
+      differ += a.status(e).bits() != b.status(e).bits();
+      feature_edges += a.status(e).feature();
+    }
+    EXPECT_EQ(differ, 0u) << "half " << p;
+  }
+  EXPECT_GT(feature_edges, 0u);
 }
