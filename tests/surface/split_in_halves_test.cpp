@@ -45,6 +45,20 @@ std::multiset<std::array<int, 3>> triangle_set(const TriSurface& s) {
   return out;
 }
 
+//! Sizes and extra locks as the coarsening's repair rounds pass them: size 1000 + the vertex's
+//! index (a size on the wrong vertex is seen), a lock on every `lock_every`-th vertex.
+struct GivenExtras {
+  std::vector<double> sizes;
+  std::vector<char> locked;
+  GivenExtras(size_t vertices, size_t lock_every) : sizes(vertices), locked(vertices, 0) {
+    for (size_t v = 0; v < vertices; ++v) {
+      sizes[v] = 1000.0 + double(v);
+      locked[v] = v % lock_every == 0;
+    }
+  }
+  SplitExtras extras() const { return SplitExtras{&sizes, &locked}; }
+};
+
 }  // namespace
 
 // The halves hold every triangle once, split near the middle, each an open manifold
@@ -199,13 +213,10 @@ TEST(SplitInHalves, TwoSeparateBodiesCoarsenedInHalvesStayTwo) {
 // the halves carry them, and the joined mesh keeps the extra locks but not the cut's.
 TEST(SplitInHalves, GivenSizesAndLocksTravelWithTheirVertices) {
   const SurfaceMesh whole = prepared(load("heart.off"));
-  std::vector<double> sizes(whole.n_vertices());
-  std::vector<char> locked(whole.n_vertices(), 0);
-  for (size_t v = 0; v < sizes.size(); ++v) {
-    sizes[v] = 1000.0 + double(v);
-    locked[v] = v % 7 == 0;
-  }
-  const SplitExtras extras{&sizes, &locked};
+  const GivenExtras given(whole.n_vertices(), 7);
+  const std::vector<double>& sizes = given.sizes;
+  const std::vector<char>& locked = given.locked;
+  const SplitExtras extras = given.extras();
   SurfaceHalves split;
   ASSERT_TRUE(split_in_halves(whole, split, extras));
   for (int p = 0; p < 2; ++p) {
@@ -233,13 +244,8 @@ TEST(SplitInHalves, GivenSizesAndLocksTravelWithTheirVertices) {
 // status bits and sizes, edge features (a box has them on its twelve edges).
 TEST(SplitInHalves, CutFirstAndMarkedLaterGivesTheSameHalves) {
   const SurfaceMesh whole = prepared(dthex::testing::box_surface(Vec3(0, 0, 0), Vec3(3, 2, 1), {30, 20, 10}));
-  std::vector<double> sizes(whole.n_vertices());
-  std::vector<char> locked(whole.n_vertices(), 0);
-  for (size_t v = 0; v < sizes.size(); ++v) {
-    sizes[v] = 1000.0 + double(v);
-    locked[v] = v % 5 == 0;
-  }
-  const SplitExtras extras{&sizes, &locked};
+  const GivenExtras given(whole.n_vertices(), 5);
+  const SplitExtras extras = given.extras();
   SurfaceHalves at_once, in_two_steps;
   ASSERT_TRUE(split_in_halves(whole, at_once, extras));
   ASSERT_TRUE(split_connectivity(whole, in_two_steps));
