@@ -115,8 +115,12 @@ class StageMemory {
   //! Where a Progress in Live mode (set_every_stage) writes; nullptr if it could not be made.
   std::FILE* stream() const { return stream_; }
   void stop() {
+    if (done_) return;
     done_ = true;
     if (thread_.joinable()) thread_.join();
+    // One more sample, now: a stage that began after the thread's last one (a short last stage,
+    // or the thread held off its core on a busy machine) has it as its peak, not none.
+    samples_.emplace_back(now(), resident_mb());
   }
   //! Per stage name in `names`, in order, the peak resident MB of the next span of that name
   //! (0 when there is none: a stage whose record was dropped, e.g. a failed coarsening, still
@@ -164,16 +168,18 @@ class StageMemory {
     }
     return ssize_t(size);
   }
+  static double resident_mb() {
+    unsigned long long size = 0, resident = 0;
+    if (std::FILE* statm = std::fopen("/proc/self/statm", "r")) {
+      if (std::fscanf(statm, "%llu %llu", &size, &resident) != 2) resident = 0;
+      std::fclose(statm);
+    }
+    return double(resident) * double(::sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
+  }
   void sample() {
-    const double page_mb = double(::sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
     std::vector<std::pair<double, double>> samples;
     while (!done_) {
-      unsigned long long size = 0, resident = 0;
-      if (std::FILE* statm = std::fopen("/proc/self/statm", "r")) {
-        if (std::fscanf(statm, "%llu %llu", &size, &resident) != 2) resident = 0;
-        std::fclose(statm);
-      }
-      samples.emplace_back(now(), double(resident) * page_mb);
+      samples.emplace_back(now(), resident_mb());
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
     samples_ = std::move(samples);  // read only after stop()
