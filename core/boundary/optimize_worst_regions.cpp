@@ -166,7 +166,8 @@ class WorstRegionOptimizer {
   }
   void place(const Eigen::VectorXd& z) {
     for (size_t i = 0; i < free_.size(); ++i)
-      mesh_.nodes[free_[i]] = scale_[i] * Vec3(z[Eigen::Index(3 * i)], z[Eigen::Index(3 * i) + 1], z[Eigen::Index(3 * i) + 2]);
+      mesh_.nodes[free_[i]] =
+          scale_[i] * Vec3(z[Eigen::Index(3 * i)], z[Eigen::Index(3 * i) + 1], z[Eigen::Index(3 * i) + 2]);
   }
   double region_min() const {
     double lowest = std::numeric_limits<double>::infinity();
@@ -206,7 +207,8 @@ class WorstRegionOptimizer {
       const double e = std::exp(-k * (s - floor_));
       total += e;
       const double w = -k * e;
-      for (size_t i = 0; i < 8; ++i) dx[i] += w * (kHexCentreAxes[0][i] * da + kHexCentreAxes[1][i] * db + kHexCentreAxes[2][i] * dc);
+      for (size_t i = 0; i < 8; ++i)
+        dx[i] += w * (kHexCentreAxes[0][i] * da + kHexCentreAxes[1][i] * db + kHexCentreAxes[2][i] * dc);
     }
     for (size_t i = 0; i < free_.size(); ++i) {
       Vec3 g = Vec3::Zero();

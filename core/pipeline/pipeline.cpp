@@ -573,13 +573,15 @@ void smooth_and_repair_worst(Meshing& m, const NodeConstraints& constraints) {
   const LocalSmoothReport smoothed =
       m.stage("smooth worst", [&] { return smooth_worst_hexes(m.result.hexes, m.input_bvh, smooth_options); });
   const double target = smooth_options.target_scaled_jacobian;
-  double min_now = optimize_worst_below(m, constraints, std::max(target, smoothed.lifted_to), smoothed.min_scaled_jacobian_after);
+  double min_now =
+      optimize_worst_below(m, constraints, std::max(target, smoothed.lifted_to), smoothed.min_scaled_jacobian_after);
   // A few hexes that the smoother could not bring to its target hold its lift back; with them
   // raised, the lift is made now.
   if (smoothed.lifted_to == 0 && smooth_options.lift_step > 0 && min_now >= target - 0.5 * smooth_options.lift_step) {
     const LocalSmoothReport lifted =
         m.stage("lift worst", [&] { return smooth_worst_hexes(m.result.hexes, m.input_bvh, smooth_options); });
-    min_now = optimize_worst_below(m, constraints, std::max(target, lifted.lifted_to), lifted.min_scaled_jacobian_after);
+    min_now =
+        optimize_worst_below(m, constraints, std::max(target, lifted.lifted_to), lifted.min_scaled_jacobian_after);
   }
   RepairWorstHexesOptions repair_options;
   repair_options.constraints = &constraints;

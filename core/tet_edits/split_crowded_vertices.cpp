@@ -133,7 +133,8 @@ class CrowdedVertexSplitter {
     double worst = 1;
     for (size_t i = 0; i < link.size() && worst > stop_below; ++i) {
       const auto& c = link[i].corners;
-      worst = std::min(worst, tet_scaled_jacobian(s.to_new[i] ? new_at : kept_at, point(c[0]), point(c[1]), point(c[2])));
+      const Vec3& moved = s.to_new[i] ? new_at : kept_at;
+      worst = std::min(worst, tet_scaled_jacobian(moved, point(c[0]), point(c[1]), point(c[2])));
     }
     for (size_t i = 0; i < s.cut.size() && worst > stop_below; ++i)
       worst = std::min(worst, tet_scaled_jacobian(kept_at, point(s.cut[i][1]), point(s.cut[i][0]), new_at));
