@@ -566,11 +566,11 @@ std::string summary_table(const PipelineResult& r, const PipelineOptions& o) {
     // The detail is appended, not formatted into the buffer: a long one lost its end and
     // the line break with it.
     char line[96];
-    std::snprintf(line, sizeof line, "  %-20s %9.3f  ", s.name.c_str(), s.seconds);
+    std::snprintf(line, sizeof line, "  %-22s %7.3f  ", s.name.c_str(), s.seconds);
     out << line << describe(s.report) << "\n";
   }
   char total[96];
-  std::snprintf(total, sizeof total, "  %-20s %9.3f\n", "total", r.total_seconds);
+  std::snprintf(total, sizeof total, "  %-22s %7.3f\n", "total", r.total_seconds);
   out << total << "\n";
   out << "  quality (Verdict)     elements      avg      std      min      max\n";
   out << quality_row("input triangles", r.input_summary.triangles, r.input_summary.shape);
