@@ -67,7 +67,10 @@ class WorstRegionOptimizer {
         break;
       }
       select(seeds);
-      if (free_.empty() || !solve()) break;
+      if (free_.empty() || !solve()) {
+        report.seeds_without_gain = seeds.size();
+        break;
+      }
       report.seeds += seeds.size();
       report.moved_nodes += free_.size();
       ++report.steps;

@@ -48,6 +48,9 @@ struct OptimizeWorstRegionsReport {
   int steps = 0;           //!< continuation steps that raised the minimum
   bool too_many_seeds = false;  //!< it ended at a step with more than max_seeds seeds
   size_t seeds = 0;        //!< seed hexes, over the steps
+  //! Seed hexes of the step that ended the run without raising the minimum (0: none did), e.g.
+  //! where the worst corners and their edge neighbours are all on the boundary, which stays.
+  size_t seeds_without_gain = 0;
   size_t moved_nodes = 0;  //!< interior nodes moved, over the steps (a node counted once per step)
   double min_before = 0, min_after = 0;  //!< smallest scaled Jacobian of the mesh
   bool time_limit_reached = false;

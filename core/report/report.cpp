@@ -182,10 +182,14 @@ std::string text(const SplitCrowdedVerticesReport& r) {
 
 std::string text(const OptimizeWorstRegionsReport& r) {
   std::ostringstream out;
-  out << "min scaled Jacobian " << r.min_before << " -> " << r.min_after << " in " << count_text("steps", size_t(r.steps))
-      << " (" << count_text("worst hexes", r.seeds) << ", " << count_text("interior nodes", r.moved_nodes)
-      << " around them moved together)";
+  out << "min scaled Jacobian " << r.min_before << " -> " << r.min_after;
+  if (r.steps > 0)
+    out << " in " << count_text("steps", size_t(r.steps)) << " (" << count_text("worst hexes", r.seeds) << ", "
+        << count_text("interior nodes", r.moved_nodes) << " around them moved together)";
   if (r.too_many_seeds) out << ", then too many hexes near the minimum";
+  if (r.seeds_without_gain)
+    out << (r.steps ? ", then" : ":") << " no gain from the interior nodes around "
+        << count_text("worst hexes", r.seeds_without_gain);
   if (r.time_limit_reached) out << ", time limit reached";
   return out.str();
 }
@@ -388,6 +392,7 @@ json fields(const SplitCrowdedVerticesReport& r) {
 json fields(const OptimizeWorstRegionsReport& r) {
   return {{"steps", r.steps},
           {"seeds", r.seeds},
+          {"seeds_without_gain", r.seeds_without_gain},
           {"moved_nodes", r.moved_nodes},
           {"min_before", r.min_before},
           {"min_after", r.min_after},

@@ -74,3 +74,23 @@ TEST(OptimizeWorstRegions, LeavesAMeshAboveTheTargetAlone) {
   EXPECT_EQ(report.seeds, 0u);
   EXPECT_EQ(mesh.nodes, before);
 }
+
+// A worst hex with no interior node (here a lone, skewed hex: every node on the boundary) cannot
+// be raised by the interior nodes around it: nothing moves, and the report says how many
+// worst hexes were left so, instead of reading like a mesh without any.
+TEST(OptimizeWorstRegions, SaysWhenTheInteriorNodesAroundTheWorstCannotRaiseThem) {
+  HexMesh mesh;
+  mesh.nodes = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1.8, 1, 1}, {0.8, 1, 1}};
+  mesh.hexes = {{0, 1, 2, 3, 4, 5, 6, 7}};
+  const std::vector<Vec3> before = mesh.nodes;
+  const double min_before = measure_hex_quality(mesh).scaled_jacobian_stats.min;
+  OptimizeWorstRegionsOptions options;
+  options.target = 0.9;
+  ASSERT_LT(min_before, options.target);
+  const OptimizeWorstRegionsReport report = optimize_worst_regions(mesh, options);
+  EXPECT_EQ(report.steps, 0);
+  EXPECT_EQ(report.seeds, 0u);
+  EXPECT_EQ(report.seeds_without_gain, 1u);
+  EXPECT_DOUBLE_EQ(report.min_after, min_before);
+  EXPECT_EQ(mesh.nodes, before);
+}
