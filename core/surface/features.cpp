@@ -156,7 +156,11 @@ std::vector<std::array<int, 2>> feature_edges(const TriSurface& surface, double 
 
 Features mark_features(SurfaceMesh& mesh, double angle_deg) {
   const double cos_limit = std::cos(angle_deg * M_PI / 180.0);
-  auto normal = [&](OpenMesh::FaceHandle f) { return to_eigen(mesh.calc_face_normal(f)); };
+  // Each triangle's normal once (the fin test and the edge test ask for it about seven times).
+  std::vector<SurfaceMesh::Normal> normals(mesh.n_faces());
+  for (auto f : mesh.faces())
+    if (!mesh.status(f).deleted()) normals[size_t(f.idx())] = mesh.calc_face_normal(f);
+  auto normal = [&](OpenMesh::FaceHandle f) { return to_eigen(normals[size_t(f.idx())]); };
   std::vector<char> fins(mesh.n_faces(), 0);
   for (auto f : mesh.faces()) {
     if (mesh.status(f).deleted()) continue;
@@ -176,7 +180,7 @@ Features mark_features(SurfaceMesh& mesh, double angle_deg) {
     if (!sharp) {
       const auto f0 = mesh.face_handle(mesh.halfedge_handle(e, 0)), f1 = mesh.face_handle(mesh.halfedge_handle(e, 1));
       sharp = !fins[size_t(f0.idx())] && !fins[size_t(f1.idx())] &&
-              (mesh.calc_face_normal(f0) | mesh.calc_face_normal(f1)) < cos_limit;
+              (normals[size_t(f0.idx())] | normals[size_t(f1.idx())]) < cos_limit;
     }
     mesh.status(e).set_feature(sharp);
     if (sharp) {
