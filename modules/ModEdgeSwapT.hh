@@ -35,7 +35,9 @@ size_t swap_edges_around(Mesh& mesh, typename Mesh::VertexHandle v, const EdgeSw
   using Point = typename Mesh::Point;
   const double cos_dihedral = std::cos(deg_to_rad(options.max_dihedral_deg));
   size_t flips = 0;
-  std::vector<typename Mesh::EdgeHandle> edges;
+  // Reused per thread: this runs after every collapse, and a new list grew through several
+  // allocations each time.
+  thread_local std::vector<typename Mesh::EdgeHandle> edges;
   for (int pass = 0; pass < options.passes; ++pass) {
     edges.clear();
     for (auto h : mesh.voh_range(v)) edges.push_back(mesh.edge_handle(h));
