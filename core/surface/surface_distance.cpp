@@ -13,15 +13,7 @@ namespace {
 // nodes), the centroids and the edge midpoints, listed triangle by triangle so that
 // consecutive samples are close: each query starts from the previous answer's triangle,
 // which prunes most of the tree. The samples are split over the cores.
-// With `each_edge_once`, an edge's midpoint is taken only from the triangle that runs along
-// it from the lower vertex id to the higher: on a closed, consistently oriented surface that
-// is one of its two triangles, so the same points are measured with a third fewer queries
-// (for a maximum; a mean would weigh the edges differently).
-// With `max_only` (no sum wanted), a sample whose distance to the previous answer's triangle
-// is no more than the largest distance found so far cannot raise it and is not searched: the
-// maximum is the same, and most samples of a close surface are settled by that one triangle.
-void one_sided(const TriSurface& from, const TriangleBvh& to, bool each_edge_once, bool max_only,
-               double& max_distance, double& sum, size_t& count) {
+void one_sided(const TriSurface& from, const TriangleBvh& to, double& max_distance, double& sum, size_t& count) {
   std::vector<Vec3> samples;
   samples.reserve(5 * from.triangles.size());
   std::vector<char> sampled(from.points.size(), 0);
@@ -35,10 +27,8 @@ void one_sided(const TriSurface& from, const TriangleBvh& to, bool each_edge_onc
     const Vec3& b = from.points[size_t(t[1])];
     const Vec3& c = from.points[size_t(t[2])];
     samples.push_back((a + b + c) / 3.0);
-    for (size_t i = 0; i < 3; ++i) {
-      const int u = t[i], w = t[(i + 1) % 3];
-      if (!each_edge_once || u < w) samples.push_back(0.5 * (from.points[size_t(u)] + from.points[size_t(w)]));
-    }
+    for (size_t i = 0; i < 3; ++i)
+      samples.push_back(0.5 * (from.points[size_t(t[i])] + from.points[size_t(t[(i + 1) % 3])]));
   }
   const long n = long(samples.size());
   double local_max = 0, local_sum = 0;
@@ -47,14 +37,7 @@ void one_sided(const TriSurface& from, const TriangleBvh& to, bool each_edge_onc
     int hint = -1;
 #pragma omp for schedule(static)
     for (long i = 0; i < n; ++i) {
-      const Vec3& q = samples[size_t(i)];
-      if (max_only && hint >= 0) {
-        const auto& t = to.triangles()[size_t(hint)];
-        const Vec3 p = closest_point_on_triangle(q, to.points()[size_t(t[0])], to.points()[size_t(t[1])],
-                                                 to.points()[size_t(t[2])]);
-        if ((p - q).squaredNorm() <= local_max * local_max) continue;
-      }
-      const TriangleBvh::ClosestPoint cp = to.closest_point_near(q, hint);
+      const TriangleBvh::ClosestPoint cp = to.closest_point_near(samples[size_t(i)], hint);
       hint = cp.triangle;
       const double d = std::sqrt(cp.distance_sq);
       local_max = std::max(local_max, d);
@@ -64,6 +47,55 @@ void one_sided(const TriSurface& from, const TriangleBvh& to, bool each_edge_onc
   max_distance = std::max(max_distance, local_max);
   sum += local_sum;
   count += samples.size();
+}
+
+// The largest distance from the sample points of `from` (as one_sided) to the surface behind
+// `to`, where `from` is closed and consistently oriented: an edge's midpoint is taken only from
+// the triangle that runs along it from the lower vertex id to the higher, which on such a
+// surface is one of its two triangles, so each point is measured once. A sample whose distance
+// to the previous answer's triangle is no more than the largest distance found so far cannot
+// raise it and is not searched; most samples of a close surface are settled by that one
+// triangle. The samples are made where they are measured, triangle by triangle on each core
+// (a maximum does not depend on the order): a list of them, five per triangle of a fine input,
+// took longer to fill on one core than most of them take to settle.
+double one_sided_max(const TriSurface& from, const TriangleBvh& to) {
+  // Each vertex is sampled with the first triangle that uses it.
+  std::vector<int> first_use(from.points.size(), -1);
+  for (size_t f = 0; f < from.triangles.size(); ++f)
+    for (int v : from.triangles[f])
+      if (first_use[size_t(v)] < 0) first_use[size_t(v)] = int(f);
+  const long n = long(from.triangles.size());
+  double local_max = 0;
+#pragma omp parallel reduction(max : local_max)
+  {
+    int hint = -1;
+    auto measure = [&](const Vec3& q) {
+      if (hint >= 0) {
+        const auto& t = to.triangles()[size_t(hint)];
+        const Vec3 p = closest_point_on_triangle(q, to.points()[size_t(t[0])], to.points()[size_t(t[1])],
+                                                 to.points()[size_t(t[2])]);
+        if ((p - q).squaredNorm() <= local_max * local_max) return;
+      }
+      const TriangleBvh::ClosestPoint cp = to.closest_point_near(q, hint);
+      hint = cp.triangle;
+      local_max = std::max(local_max, std::sqrt(cp.distance_sq));
+    };
+#pragma omp for schedule(static)
+    for (long f = 0; f < n; ++f) {
+      const auto& t = from.triangles[size_t(f)];
+      for (int v : t)
+        if (first_use[size_t(v)] == int(f)) measure(from.points[size_t(v)]);
+      const Vec3& a = from.points[size_t(t[0])];
+      const Vec3& b = from.points[size_t(t[1])];
+      const Vec3& c = from.points[size_t(t[2])];
+      measure((a + b + c) / 3.0);
+      for (size_t i = 0; i < 3; ++i) {
+        const int u = t[i], w = t[(i + 1) % 3];
+        if (u < w) measure(0.5 * (from.points[size_t(u)] + from.points[size_t(w)]));
+      }
+    }
+  }
+  return local_max;
 }
 
 }  // namespace
@@ -82,10 +114,10 @@ TriSurface quads_to_triangles(const std::vector<Vec3>& nodes, const std::vector<
 SurfaceDistance surface_distance(const TriSurface& a, const TriangleBvh& a_bvh, const TriSurface& b,
                                  const TriangleBvh& b_bvh) {
   SurfaceDistance d;
-  double sum_ab = 0, sum_ba = 0;
-  size_t count_ab = 0, count_ba = 0;
-  one_sided(a, b_bvh, false, false, d.to_input_max, sum_ab, count_ab);  // its mean is reported too
-  one_sided(b, a_bvh, true, true, d.from_input_max, sum_ba, count_ba);
+  double sum_ab = 0;
+  size_t count_ab = 0;
+  one_sided(a, b_bvh, d.to_input_max, sum_ab, count_ab);  // its mean is reported too
+  d.from_input_max = one_sided_max(b, a_bvh);
   d.hausdorff = std::max(d.to_input_max, d.from_input_max);
   d.mean = count_ab ? sum_ab / double(count_ab) : 0.0;
   return d;
