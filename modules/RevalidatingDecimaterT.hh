@@ -3,6 +3,7 @@
 // vertices (OpenMesh's DecimaterT only re-checks topology when it pops a stored collapse).
 #pragma once
 
+#include "CollapseLegality.hh"
 #include "DTHexTouched.hh"
 
 #include <OpenMesh/Tools/Decimater/BaseDecimaterT.hh>
@@ -18,9 +19,10 @@ namespace dthex {
 //! - a lazy min-heap of (priority, vertex, stamp); re-queuing a vertex bumps its stamp so
 //!   older entries are skipped;
 //! - on pop, the stored halfedge must still start at the popped vertex, and both
-//!   is_collapse_legal() (topology, locks, features) and collapse_priority() (every binary
-//!   module, then the priority module) are evaluated again on the mesh as it is now; a
-//!   failing or worsened entry is re-queued with its current best collapse instead;
+//!   collapse_is_legal() (OpenMesh's is_collapse_legal(): topology, locks, features) and
+//!   collapse_priority() (every binary module, then the priority module) are evaluated
+//!   again on the mesh as it is now; a failing or worsened entry is re-queued with its
+//!   current best collapse instead;
 //! - after postprocess_collapse, re-queues the old one-ring of v0, the ring of v1, and every
 //!   vertex listed in "m:dthex_touched" (a moved vertex changes its neighbours' collapses
 //!   too, but their stale entries are caught on pop, so their rings are not re-queued);
@@ -89,7 +91,7 @@ class RevalidatingDecimaterT : public OpenMesh::Decimater::BaseDecimaterT<MeshT>
           continue;
         }
         CollapseInfo check(mesh_, h);
-        priority = this->is_collapse_legal(check) ? this->collapse_priority(check) : -1.f;
+        priority = collapse_is_legal(mesh_, check) ? this->collapse_priority(check) : -1.f;
         if (priority < 0 || priority > top.priority) {  // stale: re-evaluate from scratch
           ++failures_;
           heap_vertex(v0);
@@ -180,7 +182,7 @@ class RevalidatingDecimaterT : public OpenMesh::Decimater::BaseDecimaterT<MeshT>
         const CollapseInfo ci(mesh_, HalfedgeHandle(h));
         const float p = this->collapse_priority(ci);
         if (p < 0 || (best.is_valid() && !(p < found))) continue;
-        if (!this->is_collapse_legal(ci)) continue;
+        if (!collapse_is_legal(mesh_, ci)) continue;
         found = p;
         best = HalfedgeHandle(h);
       }
@@ -193,7 +195,7 @@ class RevalidatingDecimaterT : public OpenMesh::Decimater::BaseDecimaterT<MeshT>
     }
     std::sort(candidates_.begin(), candidates_.end());
     for (const auto& [p, h] : candidates_)
-      if (this->is_collapse_legal(CollapseInfo(mesh_, HalfedgeHandle(h)))) {
+      if (collapse_is_legal(mesh_, CollapseInfo(mesh_, HalfedgeHandle(h)))) {
         priority = p;
         return HalfedgeHandle(h);
       }

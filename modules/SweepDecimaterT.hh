@@ -6,6 +6,8 @@
 // share of the time; a sweep only sorts the edges once.
 #pragma once
 
+#include "CollapseLegality.hh"
+
 #include <OpenMesh/Tools/Decimater/BaseDecimaterT.hh>
 
 #include <algorithm>
@@ -18,7 +20,7 @@ namespace dthex {
 //! Same modules as OpenMesh's DecimaterT. Each sweep orders the live edges by a cheap
 //! estimate of their collapse priority (set_priority_estimate: for an edge, the smaller over
 //! its two halfedges; edges with none >= 0 are left out), then visits them in that order
-//! and collapses each one that is still legal at that moment (is_collapse_legal() and
+//! and collapses each one that is still legal at that moment (collapse_is_legal() and
 //! collapse_priority() >= 0 on the mesh as it is then; of its two halfedges, the one of
 //! lower estimate first). The order is the greedy one only at the start of a sweep, so the
 //! result is rougher than a greedy decimater's, which is why it is meant as a first pass.
@@ -81,7 +83,7 @@ class SweepDecimaterT : public OpenMesh::Decimater::BaseDecimaterT<MeshT> {
     CollapseInfo ci(mesh_, h);
     // The modules' test first: on a fine mesh it refuses about half of what it is asked, the
     // topological test (OpenMesh's, the dearer) hardly any. Both only read the mesh.
-    if (this->collapse_priority(ci) < 0 || !this->is_collapse_legal(ci)) return false;
+    if (this->collapse_priority(ci) < 0 || !collapse_is_legal(mesh_, ci)) return false;
     this->preprocess_collapse(ci);
     mesh_.collapse(h);
     if (mesh_.has_face_normals())
