@@ -10,6 +10,10 @@
 namespace dthex {
 namespace {
 
+//! Per-triangle loops over more triangles than this (a scan, not a coarse surface) are split
+//! over the cores; each triangle writes only its own entry, so the result is the same.
+constexpr size_t kParallelFrom = 100000;
+
 void finish(Features& features, size_t n_vertices) {
   std::sort(features.edges.begin(), features.edges.end());
   features.feature_valence.assign(n_vertices, 0);
@@ -61,6 +65,8 @@ std::vector<std::array<int, 3>> triangle_neighbours(const std::vector<std::array
   for (size_t f = 0; f < triangles.size(); ++f)
     for (int v : triangles[f]) incident[size_t(fill[size_t(v)]++)] = int(f);
   std::vector<std::array<int, 3>> neighbours(triangles.size(), {-1, -1, -1});
+  // Each triangle's search reads the lists and writes its own entry: split over the cores.
+#pragma omp parallel for schedule(static) if (triangles.size() > kParallelFrom)
   for (size_t f = 0; f < triangles.size(); ++f)
     for (size_t k = 0; k < 3; ++k) {
       const int a = triangles[f][k], b = triangles[f][(k + 1) % 3];
@@ -91,11 +97,15 @@ bool is_needle(const Vec3& a, const Vec3& b, const Vec3& c) {
 std::vector<char> fins_from(const std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& triangles,
                             const std::vector<Vec3>& normals, double angle_deg) {
   std::vector<char> fins(triangles.size(), 0);
-  std::vector<size_t> needles;
+  std::vector<char> needle(triangles.size(), 0);
+#pragma omp parallel for schedule(static) if (triangles.size() > kParallelFrom)
   for (size_t f = 0; f < triangles.size(); ++f) {
     const auto& t = triangles[f];
-    if (is_needle(points[size_t(t[0])], points[size_t(t[1])], points[size_t(t[2])])) needles.push_back(f);
+    needle[f] = is_needle(points[size_t(t[0])], points[size_t(t[1])], points[size_t(t[2])]);
   }
+  std::vector<size_t> needles;
+  for (size_t f = 0; f < triangles.size(); ++f)
+    if (needle[f]) needles.push_back(f);
   if (needles.empty()) return fins;
   const std::vector<std::array<int, 3>> neighbours = triangle_neighbours(triangles);
   for (size_t f : needles) {
@@ -225,6 +235,7 @@ std::vector<char> nodes_on_feature_edges(const HexMesh& mesh, const TriSurface& 
 
 std::vector<Vec3> unit_triangle_normals(const std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& triangles) {
   std::vector<Vec3> normals(triangles.size());
+#pragma omp parallel for schedule(static) if (triangles.size() > kParallelFrom)
   for (size_t t = 0; t < triangles.size(); ++t) {
     const auto& f = triangles[t];
     normals[t] = unit_normal(points[size_t(f[0])], points[size_t(f[1])], points[size_t(f[2])]);
