@@ -137,10 +137,10 @@ std::vector<int> patches_by_hex_creases(const HexMesh& mesh, const std::vector<s
   return label;
 }
 
-// The triangles beside each triangle across its edges of exactly two triangles.
-std::vector<std::vector<int>> triangle_neighbours(const TriSurface& input) {
-  const std::vector<HalfEdge> edge_uses = sorted_half_edges(input.triangles);
-  std::vector<std::vector<int>> neighbours(input.triangles.size());
+// The triangles beside each triangle across its edges of exactly two triangles, from the
+// surface's sorted_half_edges.
+std::vector<std::vector<int>> triangle_neighbours(const std::vector<HalfEdge>& edge_uses, size_t triangles) {
+  std::vector<std::vector<int>> neighbours(triangles);
   for (size_t i = 0; i < edge_uses.size();) {
     size_t j = i;
     while (j < edge_uses.size() && edge_uses[j].key == edge_uses[i].key) ++j;
@@ -276,22 +276,19 @@ std::vector<int> planar_regions(const TriSurface& input, const std::vector<std::
 // triangle closest to its centre.
 std::vector<int> patches_by_input_creases(const HexMesh& mesh, const std::vector<std::array<int, 4>>& quads,
                                           const TriSurface& input, const MeshSetsOptions& options) {
-  const double crease_angle_degrees = options.crease_angle_degrees;
-  std::vector<std::array<int, 2>> creases = feature_edges(input, crease_angle_degrees);
-  for (auto& e : creases) e = {std::min(e[0], e[1]), std::max(e[0], e[1])};
-  std::sort(creases.begin(), creases.end());
+  // The feature edges of detect_features at the crease angle, tested edge by edge.
+  const CreaseTest crease(input, options.crease_angle_degrees);
   const std::vector<HalfEdge> edge_uses = sorted_half_edges(input.triangles);
-  const std::vector<int> planar = planar_regions(input, triangle_neighbours(input), options);
+  const std::vector<int> planar =
+      planar_regions(input, triangle_neighbours(edge_uses, input.triangles.size()), options);
   DisjointSets regions(input.triangles.size());
   for (size_t i = 0; i < edge_uses.size();) {
     size_t j = i;
     while (j < edge_uses.size() && edge_uses[j].key == edge_uses[i].key) ++j;
     if (j - i == 2) {
       const int a = edge_uses[i].triangle, b = edge_uses[i + 1].triangle;
-      const std::array<int, 2> edge = {int(edge_uses[i].key >> 32), int(edge_uses[i].key & 0xffffffffu)};
       // Triangles of one planar region are joined; a region's rim separates it from the rest.
-      if (planar[size_t(a)] == planar[size_t(b)] &&
-          (planar[size_t(a)] >= 0 || !std::binary_search(creases.begin(), creases.end(), edge)))
+      if (planar[size_t(a)] == planar[size_t(b)] && (planar[size_t(a)] >= 0 || !crease(a, b)))
         regions.join(a, b);
     }
     i = j;

@@ -142,18 +142,23 @@ std::vector<char> fin_triangles(const std::vector<Vec3>& points, const std::vect
   return fins_from(points, triangles, normals, angle_deg);
 }
 
+CreaseTest::CreaseTest(const TriSurface& surface, double angle_deg)
+    : normals_(surface.triangles.size()), cos_limit_(std::cos(angle_deg * M_PI / 180.0)) {
+  const auto& points = surface.points;
+#pragma omp parallel for schedule(static) if (surface.triangles.size() > kParallelFrom)
+  for (size_t f = 0; f < surface.triangles.size(); ++f) {
+    const auto& t = surface.triangles[f];
+    normals_[f] = unit_normal(points[size_t(t[0])], points[size_t(t[1])], points[size_t(t[2])]);
+  }
+  fins_ = fins_from(points, surface.triangles, normals_, angle_deg);
+}
+
 Features detect_features(const TriSurface& surface, double angle_deg) {
-  const double cos_limit = std::cos(angle_deg * M_PI / 180.0);
-  std::vector<Vec3> normals;
-  normals.reserve(surface.triangles.size());
-  for (const auto& t : surface.triangles)
-    normals.push_back(unit_normal(surface.points[size_t(t[0])], surface.points[size_t(t[1])], surface.points[size_t(t[2])]));
   const std::unordered_map<uint64_t, EdgeUse> uses = edge_uses(surface.triangles);
-  const std::vector<char> fins = fins_from(surface.points, surface.triangles, normals, angle_deg);
+  const CreaseTest crease(surface, angle_deg);
   Features features;
   for (const auto& [key, use] : uses) {
-    const bool sharp = use.count != 2 || (!fins[size_t(use.first)] && !fins[size_t(use.second)] &&
-                                          normals[size_t(use.first)].dot(normals[size_t(use.second)]) < cos_limit);
+    const bool sharp = use.count != 2 || crease(use.first, use.second);
     if (sharp) features.edges.push_back({int(key >> 32), int(key & 0xffffffffu)});
   }
   finish(features, surface.points.size());

@@ -43,6 +43,24 @@ bool is_fin(const std::array<Vec3, 3>& corners, const Vec3& unit_normal, const s
 std::vector<char> fin_triangles(const std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& triangles,
                                 double angle_deg = kDefaultFeatureAngleDeg);
 
+//! The test detect_features makes on an edge of exactly two triangles: the angle between their
+//! unit normals ((b - a) x (c - a) normalized, zero for a degenerate triangle) exceeds
+//! angle_deg, and neither is a fin. Made once per surface, then asked per pair, by callers that
+//! walk the edges themselves.
+class CreaseTest {
+ public:
+  explicit CreaseTest(const TriSurface& surface, double angle_deg = kDefaultFeatureAngleDeg);
+  //! Is the edge that triangles a and b share (its only two) a feature edge?
+  bool operator()(int a, int b) const {
+    return !fins_[size_t(a)] && !fins_[size_t(b)] && normals_[size_t(a)].dot(normals_[size_t(b)]) < cos_limit_;
+  }
+
+ private:
+  std::vector<Vec3> normals_;
+  std::vector<char> fins_;
+  double cos_limit_ = 0;
+};
+
 //! Features of a surface. An edge is a feature when the angle between its two triangles'
 //! normals exceeds angle_deg, or when it does not have exactly two triangles (border); an
 //! edge of a fin is not.
