@@ -8,28 +8,47 @@
 namespace dthex {
 namespace {
 
-// Max and sum of distances from the sample points of `from` to the surface behind `to`.
-// Samples are the vertices the triangles use (a hex mesh's node array also holds interior
-// nodes), the centroids and the edge midpoints, listed triangle by triangle so that
-// consecutive samples are close: each query starts from the previous answer's triangle,
-// which prunes most of the tree. The samples are split over the cores.
+// For each vertex of `from`, the first triangle that uses it (-1: none): the triangle it is
+// sampled with.
+std::vector<int> first_uses(const TriSurface& from) {
+  std::vector<int> first_use(from.points.size(), -1);
+  for (size_t f = 0; f < from.triangles.size(); ++f)
+    for (int v : from.triangles[f])
+      if (first_use[size_t(v)] < 0) first_use[size_t(v)] = int(f);
+  return first_use;
+}
+
+// The sample points of triangle f of `from`, in order: its vertices sampled with it
+// (first_use), its centroid and its edge midpoints; with `each_edge_once`, only the midpoints
+// of the edges it runs along from the lower vertex id to the higher, which on a closed,
+// consistently oriented surface is one of an edge's two triangles.
+template <class Visit>
+void visit_samples(const TriSurface& from, const std::vector<int>& first_use, size_t f, bool each_edge_once,
+                   Visit&& visit) {
+  const auto& t = from.triangles[f];
+  for (int v : t)
+    if (first_use[size_t(v)] == int(f)) visit(from.points[size_t(v)]);
+  const Vec3& a = from.points[size_t(t[0])];
+  const Vec3& b = from.points[size_t(t[1])];
+  const Vec3& c = from.points[size_t(t[2])];
+  visit((a + b + c) / 3.0);
+  for (size_t i = 0; i < 3; ++i) {
+    const int u = t[i], w = t[(i + 1) % 3];
+    if (!each_edge_once || u < w) visit(0.5 * (from.points[size_t(u)] + from.points[size_t(w)]));
+  }
+}
+
+// Max and sum of distances from the sample points of `from` (visit_samples: the vertices the
+// triangles use, as a hex mesh's node array also holds interior nodes, the centroids and the
+// edge midpoints) to the surface behind `to`, listed triangle by triangle so that consecutive
+// samples are close: each query starts from the previous answer's triangle, which prunes most
+// of the tree. The samples are split over the cores.
 void one_sided(const TriSurface& from, const TriangleBvh& to, double& max_distance, double& sum, size_t& count) {
+  const std::vector<int> first_use = first_uses(from);
   std::vector<Vec3> samples;
   samples.reserve(5 * from.triangles.size());
-  std::vector<char> sampled(from.points.size(), 0);
-  for (const auto& t : from.triangles) {
-    for (int v : t)
-      if (!sampled[size_t(v)]) {
-        sampled[size_t(v)] = 1;
-        samples.push_back(from.points[size_t(v)]);
-      }
-    const Vec3& a = from.points[size_t(t[0])];
-    const Vec3& b = from.points[size_t(t[1])];
-    const Vec3& c = from.points[size_t(t[2])];
-    samples.push_back((a + b + c) / 3.0);
-    for (size_t i = 0; i < 3; ++i)
-      samples.push_back(0.5 * (from.points[size_t(t[i])] + from.points[size_t(t[(i + 1) % 3])]));
-  }
+  for (size_t f = 0; f < from.triangles.size(); ++f)
+    visit_samples(from, first_use, f, false, [&](const Vec3& q) { samples.push_back(q); });
   const long n = long(samples.size());
   double local_max = 0, local_sum = 0;
 #pragma omp parallel reduction(max : local_max) reduction(+ : local_sum)
@@ -49,21 +68,16 @@ void one_sided(const TriSurface& from, const TriangleBvh& to, double& max_distan
   count += samples.size();
 }
 
-// The largest distance from the sample points of `from` (as one_sided) to the surface behind
-// `to`, where `from` is closed and consistently oriented: an edge's midpoint is taken only from
-// the triangle that runs along it from the lower vertex id to the higher, which on such a
-// surface is one of its two triangles, so each point is measured once. A sample whose distance
-// to the previous answer's triangle is no more than the largest distance found so far cannot
-// raise it and is not searched; most samples of a close surface are settled by that one
-// triangle. The samples are made where they are measured, triangle by triangle on each core
-// (a maximum does not depend on the order): a list of them, five per triangle of a fine input,
-// took longer to fill on one core than most of them take to settle.
+// The largest distance from the sample points of `from` to the surface behind `to`, where
+// `from` is closed and consistently oriented, so each edge midpoint is measured once
+// (visit_samples with each_edge_once). A sample whose distance to the previous answer's
+// triangle is no more than the largest distance found so far cannot raise it and is not
+// searched; most samples of a close surface are settled by that one triangle. The samples are
+// made where they are measured, triangle by triangle on each core (a maximum does not depend on
+// the order): a list of them, five per triangle of a fine input, took longer to fill on one
+// core than most of them take to settle.
 double one_sided_max(const TriSurface& from, const TriangleBvh& to) {
-  // Each vertex is sampled with the first triangle that uses it.
-  std::vector<int> first_use(from.points.size(), -1);
-  for (size_t f = 0; f < from.triangles.size(); ++f)
-    for (int v : from.triangles[f])
-      if (first_use[size_t(v)] < 0) first_use[size_t(v)] = int(f);
+  const std::vector<int> first_use = first_uses(from);
   const long n = long(from.triangles.size());
   double local_max = 0;
 #pragma omp parallel reduction(max : local_max)
@@ -81,19 +95,7 @@ double one_sided_max(const TriSurface& from, const TriangleBvh& to) {
       local_max = std::max(local_max, std::sqrt(cp.distance_sq));
     };
 #pragma omp for schedule(static)
-    for (long f = 0; f < n; ++f) {
-      const auto& t = from.triangles[size_t(f)];
-      for (int v : t)
-        if (first_use[size_t(v)] == int(f)) measure(from.points[size_t(v)]);
-      const Vec3& a = from.points[size_t(t[0])];
-      const Vec3& b = from.points[size_t(t[1])];
-      const Vec3& c = from.points[size_t(t[2])];
-      measure((a + b + c) / 3.0);
-      for (size_t i = 0; i < 3; ++i) {
-        const int u = t[i], w = t[(i + 1) % 3];
-        if (u < w) measure(0.5 * (from.points[size_t(u)] + from.points[size_t(w)]));
-      }
-    }
+    for (long f = 0; f < n; ++f) visit_samples(from, first_use, size_t(f), true, measure);
   }
   return local_max;
 }
