@@ -67,15 +67,7 @@ class WorstRegionOptimizer {
         break;
       }
       select(seeds);
-      // A region that gains nothing at the usual sharpness may at the sharper one, where the
-      // frames just above its minimum, many of them, outweighed the few worst.
-      sharpness_ = options_.sharpness;
-      bool gained = !free_.empty() && solve();
-      if (!gained && !free_.empty() && options_.fallback_sharpness > options_.sharpness) {
-        sharpness_ = options_.fallback_sharpness;
-        gained = solve();
-      }
-      if (!gained) {
+      if (free_.empty() || !solve()) {
         report.seeds_without_gain = seeds.size();
         break;
       }
@@ -190,7 +182,7 @@ class WorstRegionOptimizer {
   // Each hex's gradient goes to its own slots, then each node sums its hexes'.
   double energy(const Eigen::VectorXd& z, Eigen::VectorXd& gradient) {
     place(z);
-    const double k = sharpness_;
+    const double k = options_.sharpness;
     hex_gradient_.resize(8 * active_.size());
     double total = 0;
     for (long a = 0; a < long(active_.size()); ++a) {
@@ -239,7 +231,6 @@ class WorstRegionOptimizer {
   std::vector<std::vector<std::pair<int, int>>> slots_of_;  //!< per free node: (active hex slot, corner)
   std::vector<Vec3> hex_gradient_;                          //!< 8 per active hex
   double floor_ = 0;
-  double sharpness_ = 0;  //!< of the solve under way: options.sharpness or its fallback
   Clock::time_point deadline_;
 };
 
