@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
 
 namespace dthex {
 namespace {
@@ -67,7 +68,15 @@ class WorstRegionOptimizer {
         break;
       }
       select(seeds);
-      if (free_.empty() || !solve()) {
+      // A region that gains nothing at the usual sharpness may at the sharper one, where the
+      // frames just above its minimum, many of them, outweighed the few worst.
+      sharpness_ = options_.sharpness;
+      bool gained = !free_.empty() && solve();
+      if (!gained && !free_.empty() && options_.fallback_sharpness > options_.sharpness) {
+        sharpness_ = options_.fallback_sharpness;
+        gained = solve();
+      }
+      if (!gained) {
         report.seeds_without_gain = seeds.size();
         break;
       }
@@ -96,7 +105,8 @@ class WorstRegionOptimizer {
       lbfgs.deadline = deadline_;
       minimize_lbfgs(z, [&](const Eigen::VectorXd& x, Eigen::VectorXd& g) { return energy(x, g); }, lbfgs);
       place(z);
-      if (!(region_min() > before + 1e-6)) {  // no gain: put the round's start back
+      // No gain, or an edge drawn below half its floor: put the round's start back.
+      if (!(region_min() > before + 1e-6) || !(shortest_edge_fraction() >= 0.5 * options_.min_edge_fraction)) {
         restore(kept);
         break;
       }
@@ -149,6 +159,13 @@ class WorstRegionOptimizer {
         slots_of_[i].push_back({slot_of[size_t(g)], corner});
       }
     // Each node's variables in units of its mean hex edge, so one step means the same anywhere.
+    // The active hexes' edge lengths when each first became active: the floor's reference.
+    start_lengths_.resize(active_.size());
+    for (size_t a = 0; a < active_.size(); ++a) {
+      auto [it, added] = first_lengths_.try_emplace(active_[a]);
+      if (added) it->second = edge_lengths(active_[a]);
+      start_lengths_[a] = it->second;
+    }
     scale_.assign(free_.size(), 0);
     for (size_t i = 0; i < free_.size(); ++i) {
       double sum = 0;
@@ -178,11 +195,30 @@ class WorstRegionOptimizer {
     return lowest;
   }
 
-  // sum over the active hexes' frames of exp(-sharpness (s - floor)), and its gradient in z.
-  // Each hex's gradient goes to its own slots, then each node sums its hexes'.
+  std::array<double, 12> edge_lengths(size_t h) const {
+    std::array<double, 12> lengths;
+    const auto& hex = mesh_.hexes[h];
+    for (size_t e = 0; e < 12; ++e)
+      lengths[e] = (mesh_.nodes[size_t(hex[size_t(kHexEdges[e][0])])] - mesh_.nodes[size_t(hex[size_t(kHexEdges[e][1])])]).norm();
+    return lengths;
+  }
+  // The smallest ratio of an active hex's edge to its length when the stage first moved it.
+  double shortest_edge_fraction() const {
+    double lowest = std::numeric_limits<double>::infinity();
+    for (size_t a = 0; a < active_.size(); ++a) {
+      const std::array<double, 12> lengths = edge_lengths(active_[a]);
+      for (size_t e = 0; e < 12; ++e)
+        if (start_lengths_[a][e] > 0) lowest = std::min(lowest, lengths[e] / start_lengths_[a][e]);
+    }
+    return lowest;
+  }
+
+  // sum over the active hexes' frames of exp(-sharpness (s - floor)), plus over their edges of
+  // exp(-sharpness (l / l_start - min_edge_fraction)), and its gradient in z. Each hex's
+  // gradient goes to its own slots, then each node sums its hexes'.
   double energy(const Eigen::VectorXd& z, Eigen::VectorXd& gradient) {
     place(z);
-    const double k = options_.sharpness;
+    const double k = sharpness_;
     hex_gradient_.resize(8 * active_.size());
     double total = 0;
     for (long a = 0; a < long(active_.size()); ++a) {
@@ -212,6 +248,19 @@ class WorstRegionOptimizer {
       const double w = -k * e;
       for (size_t i = 0; i < 8; ++i)
         dx[i] += w * (kHexCentreAxes[0][i] * da + kHexCentreAxes[1][i] * db + kHexCentreAxes[2][i] * dc);
+      for (size_t e = 0; e < 12; ++e) {
+        const double start = start_lengths_[size_t(a)][e];
+        if (!(start > 0)) continue;
+        const size_t i = size_t(kHexEdges[e][0]), j = size_t(kHexEdges[e][1]);
+        const Vec3 d = x[i] - x[j];
+        const double length = d.norm();
+        const double edge_energy = std::exp(-k * (length / start - options_.min_edge_fraction));
+        total += edge_energy;
+        if (length > 0) {
+          const Vec3 g = (-k * edge_energy / (start * length)) * d;
+          dx[i] += g, dx[j] -= g;
+        }
+      }
     }
     for (size_t i = 0; i < free_.size(); ++i) {
       Vec3 g = Vec3::Zero();
@@ -230,7 +279,10 @@ class WorstRegionOptimizer {
   std::vector<double> scale_;
   std::vector<std::vector<std::pair<int, int>>> slots_of_;  //!< per free node: (active hex slot, corner)
   std::vector<Vec3> hex_gradient_;                          //!< 8 per active hex
+  std::unordered_map<size_t, std::array<double, 12>> first_lengths_;  //!< per hex ever active
+  std::vector<std::array<double, 12>> start_lengths_;                 //!< per active hex
   double floor_ = 0;
+  double sharpness_ = 0;  //!< of the solve under way: options.sharpness or its fallback
   Clock::time_point deadline_;
 };
 
