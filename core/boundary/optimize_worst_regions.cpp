@@ -50,7 +50,8 @@ class WorstRegionOptimizer {
     OptimizeWorstRegionsReport report;
     std::vector<double> sj(mesh_.hexes.size());
     auto measure = [&] {
-      for (size_t h = 0; h < mesh_.hexes.size(); ++h) sj[h] = hex_scaled_jacobian(hex_corners(mesh_, h));
+#pragma omp parallel for schedule(static) if (sj.size() > 50000)
+      for (long h = 0; h < long(sj.size()); ++h) sj[size_t(h)] = hex_scaled_jacobian(hex_corners(mesh_, size_t(h)));
       return *std::min_element(sj.begin(), sj.end());
     };
     report.min_before = report.min_after = measure();
@@ -63,27 +64,37 @@ class WorstRegionOptimizer {
       std::vector<size_t> seeds;
       for (size_t h = 0; h < sj.size(); ++h)
         if (sj[h] < below) seeds.push_back(h);
-      if (seeds.size() > options_.max_seeds) {
+      if (seeds.size() > options_.max_seeds * size_t(std::max(options_.max_batches, 1))) {
         report.too_many_seeds = true;
         break;
       }
-      select(seeds);
-      // A region that gains nothing at the usual sharpness may at the sharper one, where the
-      // frames just above its minimum, many of them, outweighed the few worst.
-      sharpness_ = options_.sharpness;
-      bool gained = !free_.empty() && solve();
-      if (!gained && !free_.empty() && options_.fallback_sharpness > options_.sharpness) {
-        sharpness_ = options_.fallback_sharpness;
-        gained = solve();
+      // The seeds in batches of max_seeds, worst first, each batch's region solved on its own.
+      std::stable_sort(seeds.begin(), seeds.end(), [&](size_t a, size_t b) { return sj[a] < sj[b]; });
+      size_t moved = 0;
+      for (size_t first = 0; first < seeds.size(); first += options_.max_seeds) {
+        const size_t last = std::min(seeds.size(), first + options_.max_seeds);
+        select(std::vector<size_t>(seeds.begin() + long(first), seeds.begin() + long(last)));
+        // A region that gains nothing at the usual sharpness may at the sharper one, where the
+        // frames just above its minimum, many of them, outweighed the few worst.
+        sharpness_ = options_.sharpness;
+        bool gained = !free_.empty() && solve();
+        if (!gained && !free_.empty() && options_.fallback_sharpness > options_.sharpness) {
+          sharpness_ = options_.fallback_sharpness;
+          gained = solve();
+        }
+        if (gained) moved += free_.size();
+        if (!gained && first == 0) break;  // the worst hex is in the first batch: it stays the minimum
       }
-      if (!gained) {
+      const double min_before_step = report.min_after;
+      report.min_after = measure();
+      if (!(report.min_after > min_before_step)) {  // the batch around the worst gained nothing
         report.seeds_without_gain = seeds.size();
+        report.moved_nodes += moved;
         break;
       }
       report.seeds += seeds.size();
-      report.moved_nodes += free_.size();
+      report.moved_nodes += moved;
       ++report.steps;
-      report.min_after = measure();
     }
     return report;
   }
@@ -220,8 +231,11 @@ class WorstRegionOptimizer {
     place(z);
     const double k = sharpness_;
     hex_gradient_.resize(8 * active_.size());
-    double total = 0;
+    hex_energy_.resize(active_.size());
+    // Every hex on its own over the cores; the sum then in order, so a run repeats exactly.
+#pragma omp parallel for schedule(static) if (active_.size() > 2000)
     for (long a = 0; a < long(active_.size()); ++a) {
+      double total = 0;
       const auto& hex = mesh_.hexes[active_[size_t(a)]];
       std::array<Vec3, 8> x;
       for (size_t i = 0; i < 8; ++i) x[i] = mesh_.nodes[size_t(hex[i])];
@@ -261,11 +275,15 @@ class WorstRegionOptimizer {
           dx[i] += g, dx[j] -= g;
         }
       }
+      hex_energy_[size_t(a)] = total;
     }
-    for (size_t i = 0; i < free_.size(); ++i) {
+    double total = 0;
+    for (double e : hex_energy_) total += e;
+#pragma omp parallel for schedule(static) if (free_.size() > 2000)
+    for (long i = 0; i < long(free_.size()); ++i) {
       Vec3 g = Vec3::Zero();
-      for (const auto& [slot, corner] : slots_of_[i]) g += hex_gradient_[8 * size_t(slot) + size_t(corner)];
-      for (int c = 0; c < 3; ++c) gradient[Eigen::Index(3 * i) + c] = g[c] * scale_[i];
+      for (const auto& [slot, corner] : slots_of_[size_t(i)]) g += hex_gradient_[8 * size_t(slot) + size_t(corner)];
+      for (int c = 0; c < 3; ++c) gradient[Eigen::Index(3 * i) + c] = g[c] * scale_[size_t(i)];
     }
     return total;
   }
@@ -279,6 +297,7 @@ class WorstRegionOptimizer {
   std::vector<double> scale_;
   std::vector<std::vector<std::pair<int, int>>> slots_of_;  //!< per free node: (active hex slot, corner)
   std::vector<Vec3> hex_gradient_;                          //!< 8 per active hex
+  std::vector<double> hex_energy_;                          //!< per active hex
   std::unordered_map<size_t, std::array<double, 12>> first_lengths_;  //!< per hex ever active
   std::vector<std::array<double, 12>> start_lengths_;                 //!< per active hex
   double floor_ = 0;

@@ -24,10 +24,14 @@ struct OptimizeWorstRegionsOptions {
   double target = 0.4;
   double margin = 0.02;
   int steps = 8;
-  //! A step with more seeds than this is not taken, and the continuation ends: where many
-  //! hexes sit within the margin of the minimum (a thin wall's hexes at the smoother's target)
-  //! their regions would cover much of the mesh, and raising some would not raise the minimum.
+  //! Seeds per region solve: a step's seeds, worst first, are taken in batches of this many,
+  //! each batch's region solved on its own (a smaller problem, and a batch that gains is kept
+  //! even where another does not).
   size_t max_seeds = 32;
+  //! A step with more than max_seeds * max_batches seeds is not taken, and the continuation
+  //! ends: where thousands of hexes sit within the margin of the minimum (a thin wall's hexes
+  //! at the smoother's target) raising them all would take longer than it is worth.
+  int max_batches = 8;
   //! Hex rings around the seeds whose interior nodes move (a node moves only when all its
   //! hexes are in the region). More rings free the arrangement around a crowded vertex
   //! further out, at the cost of a larger problem; two were too few to widen one.
@@ -46,10 +50,12 @@ struct OptimizeWorstRegionsOptions {
   //! energy rises as steeply below it as below the worst frame, and a round that takes an edge
   //! below half of it is undone. The scaled Jacobian is blind to length, and without this the
   //! solve drew nodes together (edges 1e-7 of their hex's longest, Verdict shape 0.0001).
-  double min_edge_fraction = 0.5;
+  //! Higher keeps shapes sounder and leaves less room: at 0.5 rather than 0.7 the pelvis's
+  //! worst Verdict shape is 0.004 (0.014), the peer kitten's worst scaled Jacobian 0.400 (0.380).
+  double min_edge_fraction = 0.7;
   //! Rounds per step (the minimum the energy is taken against updated after each) and L-BFGS
-  //! iterations per round.
-  int rounds = 2;
+  //! iterations per round. A second round gained less than a second step does, and took longer.
+  int rounds = 1;
   int iterations = 30;
   //! Optional: the mesh's node_constraints(); its on_boundary is used (found here without it).
   const NodeConstraints* constraints = nullptr;
