@@ -8,7 +8,9 @@
 // smallest scaled Jacobian of the region's frames (the eight corners and the centre of each hex
 // with a moving node): sum exp(-sharpness (s_f - s_min)), which the worst frames dominate. A
 // round is kept only when it raises the region's minimum, so the mesh's minimum never falls;
-// the seeds are the worst few hexes, taken again as the minimum rises (a continuation).
+// the seeds are the worst few hexes, in batches, taken again as the minimum rises (a
+// continuation). The energy also holds every edge near its length: the scaled Jacobian alone
+// would let the solve draw two nodes together.
 #pragma once
 
 #include <dthex/mesh/node_constraints.h>

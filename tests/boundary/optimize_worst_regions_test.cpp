@@ -94,3 +94,24 @@ TEST(OptimizeWorstRegions, SaysWhenTheInteriorNodesAroundTheWorstCannotRaiseThem
   EXPECT_DOUBLE_EQ(report.min_after, min_before);
   EXPECT_EQ(mesh.nodes, before);
 }
+
+// More worst hexes than one solve takes (the centre's 64 corners against 32 seeds a solve) are
+// taken in batches, worst first: the minimum rises where a single batch would end the run.
+TEST(OptimizeWorstRegions, TakesManyWorstHexesInBatches) {
+  const TriSurface sphere = staggered_sphere(8, 5);
+  const HexMesh start = smoothed_coned_sphere(sphere);
+  const double min_before = measure_hex_quality(start).scaled_jacobian_stats.min;
+  OptimizeWorstRegionsOptions options;
+  options.target = 0.6;
+  HexMesh batched = start;
+  const OptimizeWorstRegionsReport report = optimize_worst_regions(batched, options);
+  EXPECT_GT(report.seeds, options.max_seeds);
+  EXPECT_GT(measure_hex_quality(batched).scaled_jacobian_stats.min, min_before + 0.005);
+  EXPECT_EQ(measure_hex_quality(batched).inverted, 0u);
+  options.max_batches = 1;
+  HexMesh single = start;
+  const OptimizeWorstRegionsReport one = optimize_worst_regions(single, options);
+  EXPECT_TRUE(one.too_many_seeds);
+  EXPECT_EQ(one.steps, 0);
+  EXPECT_EQ(single.nodes, start.nodes);
+}

@@ -126,9 +126,9 @@ TEST(PipelineQuality, BoundedDihedralAnglesLiftTheWorstHex) {
 //! The worst hexes go past the smoother's target: the smoother lifts them where it can, and the
 //! regions around those it leaves behind are optimized as a whole (a narrow corner at a crowded
 //! tet vertex needs the nodes around it moved together). On the liver the smoother stops at
-//! 0.34 and the regions take the minimum to 0.37, above the 0.35 an analyst asks for, without
+//! 0.34 and the regions, 90 worst hexes in batches, take the minimum to their 0.4 target, without
 //! drawing nodes together: the scaled Jacobian is blind to length, and the regions' solve
-//! without its edge floor left the liver's worst hex at Verdict shape 0.026 (0.037 with it).
+//! without its edge floor left the liver's worst hex at Verdict shape 0.026 (0.033 with it).
 TEST(PipelineQuality, TheWorstHexesGoPastTheSmoothersTarget) {
   Progress quiet;
   const PipelineResult r = run_pipeline(DTHEX_SOURCE_DIR "/meshes/liver.off", PipelineOptions(), quiet);
@@ -140,7 +140,7 @@ TEST(PipelineQuality, TheWorstHexesGoPastTheSmoothersTarget) {
   EXPECT_DOUBLE_EQ(regions->min_before, smoothed->min_scaled_jacobian_after);
   EXPECT_GT(regions->min_after, regions->min_before + 0.01);
   EXPECT_GE(r.quality.scaled_jacobian_stats.min, regions->min_after);
-  EXPECT_GE(r.quality.scaled_jacobian_stats.min, 0.35);
+  EXPECT_GE(r.quality.scaled_jacobian_stats.min, 0.399);
   EXPECT_GE(r.quality.shape_stats.min, 0.03);
   EXPECT_EQ(r.quality.inverted, 0u);
   EXPECT_TRUE(r.conforming);
