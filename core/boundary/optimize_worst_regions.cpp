@@ -6,6 +6,7 @@
 #include <dthex/mesh/incidence.h>
 #include <dthex/mesh/quality.h>
 #include <dthex/numerics/lbfgs.h>
+#include <dthex/surface/features.h>
 
 #include <Eigen/Geometry>
 
@@ -42,6 +43,13 @@ class WorstRegionOptimizer {
   WorstRegionOptimizer(HexMesh& mesh, const OptimizeWorstRegionsOptions& options) : mesh_(mesh), options_(options) {
     node_hexes_ = NodeCellIncidence(mesh.nodes.size(), mesh.hexes);
     on_boundary_ = boundary_nodes(mesh, options.constraints ? &options.constraints->on_boundary : nullptr);
+    if (options.surface) {
+      const TriangleBvh& surface = *options.surface;
+      surface_normals_ = unit_triangle_normals(surface.points(), surface.triangles());
+      min_normal_cos_ = std::cos(options.max_normal_turn_deg * M_PI / 180.0);
+      if (options.knife_edge_zone > 0 && has_knife_edge(surface.triangles(), surface_normals_))
+        knife_zone_ = options.knife_edge_zone * surface.bounds().diagonal().norm();
+    }
     deadline_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                    std::chrono::duration<double>(options.time_limit_seconds));
   }
@@ -73,16 +81,27 @@ class WorstRegionOptimizer {
       size_t moved = 0;
       for (size_t first = 0; first < seeds.size(); first += options_.max_seeds) {
         const size_t last = std::min(seeds.size(), first + options_.max_seeds);
-        select(std::vector<size_t>(seeds.begin() + long(first), seeds.begin() + long(last)));
-        // A region that gains nothing at the usual sharpness may at the sharper one, where the
-        // frames just above its minimum, many of them, outweighed the few worst.
-        sharpness_ = options_.sharpness;
-        bool gained = !free_.empty() && solve();
-        if (!gained && !free_.empty() && options_.fallback_sharpness > options_.sharpness) {
-          sharpness_ = options_.fallback_sharpness;
+        const std::vector<size_t> batch(seeds.begin() + long(first), seeds.begin() + long(last));
+        // The interior nodes first; where they gain nothing (the worst corners held by the
+        // boundary), the boundary nodes sliding on the input with them.
+        bool gained = false;
+        for (const bool slide : {false, true}) {
+          if (slide && !options_.surface) break;
+          select(batch, slide);
+          if (free_.empty()) continue;
+          // A region that gains nothing at the usual sharpness may at the sharper one, where
+          // the frames just above its minimum, many of them, outweighed the few worst.
+          sharpness_ = options_.sharpness;
           gained = solve();
+          if (!gained && options_.fallback_sharpness > options_.sharpness) {
+            sharpness_ = options_.fallback_sharpness;
+            gained = solve();
+          }
+          if (gained) {
+            moved += free_.size();
+            break;
+          }
         }
-        if (gained) moved += free_.size();
         if (!gained && first == 0) break;  // the worst hex is in the first batch: it stays the minimum
       }
       const double min_before_step = report.min_after;
@@ -103,11 +122,9 @@ class WorstRegionOptimizer {
   // Rounds of L-BFGS on the selected region, each kept only when it raises the region's
   // minimum; true if one was kept.
   bool solve() {
-    Eigen::VectorXd z(Eigen::Index(3 * free_.size()));
-    for (size_t i = 0; i < free_.size(); ++i)
-      for (int c = 0; c < 3; ++c) z[Eigen::Index(3 * i) + c] = mesh_.nodes[free_[i]][c] / scale_[i];
     bool kept_any = false;
     for (int round = 0; round < options_.rounds && Clock::now() <= deadline_; ++round) {
+      Eigen::VectorXd z = start_variables();
       const double before = region_min();
       const std::vector<Vec3> kept = positions();
       floor_ = before;
@@ -116,8 +133,10 @@ class WorstRegionOptimizer {
       lbfgs.deadline = deadline_;
       minimize_lbfgs(z, [&](const Eigen::VectorXd& x, Eigen::VectorXd& g) { return energy(x, g); }, lbfgs);
       place(z);
+      put_back_on_surface();
       // No gain, or an edge drawn below half its floor: put the round's start back.
-      if (!(region_min() > before + 1e-6) || !(shortest_edge_fraction() >= 0.5 * options_.min_edge_fraction)) {
+      if (!(region_min() > before + 1e-6) ||
+          !(shortest_edge_fraction() >= 0.5 * options_.min_edge_fraction)) {
         restore(kept);
         break;
       }
@@ -126,9 +145,57 @@ class WorstRegionOptimizer {
     return kept_any;
   }
 
-  // The region: hexes within region_rings rings of the seeds; its free nodes: interior nodes
-  // all of whose hexes are in it; the active hexes: those with a free node.
-  void select(const std::vector<size_t>& seeds) {
+  // The variables at the current positions: an interior node's coordinates, a sliding node's
+  // two tangent offsets (0), each in units of the node's scale. Sets the sliding nodes'
+  // origins and tangent planes.
+  Eigen::VectorXd start_variables() {
+    Eigen::VectorXd z(static_cast<Eigen::Index>(variable_count_));
+    for (size_t i = 0; i < free_.size(); ++i) {
+      const Vec3& x = mesh_.nodes[free_[i]];
+      const Eigen::Index o = Eigen::Index(offset_[i]);
+      if (!sliding_[i]) {
+        for (int c = 0; c < 3; ++c) z[o + c] = x[c] / scale_[i];
+        continue;
+      }
+      origin_[i] = x;
+      z[o] = z[o + 1] = 0;
+    }
+    return z;
+  }
+
+  // Each sliding node onto the input's closest point; one that would land further than it slid
+  // (on another sheet) or on a part of the surface facing elsewhere (across a crease) goes
+  // back to where its slide started.
+  void put_back_on_surface() {
+    if (!options_.surface) return;
+    for (size_t i = 0; i < free_.size(); ++i) {
+      if (!sliding_[i]) continue;
+      Vec3& x = mesh_.nodes[free_[i]];
+      const TriangleBvh::ClosestPoint cp = options_.surface->closest_point(x);
+      const bool lands = cp.triangle >= 0 && std::sqrt(cp.distance_sq) <= (x - origin_[i]).norm() + 1e-12 * scale_[i] &&
+                         surface_normals_[size_t(cp.triangle)].dot(normal_[i]) >= min_normal_cos_;
+      x = lands ? cp.point : origin_[i];
+    }
+  }
+
+  // A boundary node of the region that may slide on the input: off every crease and corner
+  // (a slide would round them off) and off a knife edge's zone; with its surface normal.
+  bool may_slide(size_t v, double scale, Vec3& normal) const {
+    if (!options_.surface) return false;
+    const Vec3& x = mesh_.nodes[v];
+    const TriangleBvh::ClosestPoint cp = options_.surface->closest_point(x);
+    if (cp.triangle < 0) return false;
+    normal = surface_normals_[size_t(cp.triangle)];
+    if (normal.squaredNorm() == 0) return false;
+    if (on_surface_crease(*options_.surface, surface_normals_, x, normal, 1e-6 * scale, min_normal_cos_, false))
+      return false;
+    return !(knife_zone_ > 0 && near_knife_edge(*options_.surface, surface_normals_, x, knife_zone_));
+  }
+
+  // The region: hexes within region_rings rings of the seeds; its free nodes: nodes all of
+  // whose hexes are in it, interior or (with `slide`) sliding on the boundary; the active
+  // hexes: those with a free node.
+  void select(const std::vector<size_t>& seeds, bool slide) {
     std::vector<char> in_region(mesh_.hexes.size(), 0);
     std::vector<size_t> frontier = seeds;
     for (size_t h : seeds) in_region[h] = 1;
@@ -144,18 +211,24 @@ class WorstRegionOptimizer {
         }
       frontier.swap(next);
     }
+    // Free: interior nodes all of whose hexes are in the region, and boundary ones that may slide.
     std::vector<char> is_free(mesh_.nodes.size(), 0);
+    std::unordered_map<size_t, Vec3> slide_normal;
     for (size_t v = 0; v < mesh_.nodes.size(); ++v) {
-      if (on_boundary_[v] || node_hexes_[v].empty()) continue;
+      if (node_hexes_[v].empty()) continue;
       bool inside = true;
       for (int g : node_hexes_[v]) inside = inside && in_region[size_t(g)];
-      if (inside) is_free[v] = 1;
+      if (!inside) continue;
+      Vec3 normal;
+      if (!on_boundary_[v])
+        is_free[v] = 1;
+      else if (slide && may_slide(v, node_scale(v), normal))
+        is_free[v] = 1, slide_normal[v] = normal;
     }
     free_.clear();
     active_.clear();
-    var_of_.assign(mesh_.nodes.size(), -1);
     for (size_t v = 0; v < mesh_.nodes.size(); ++v)
-      if (is_free[v]) var_of_[v] = int(free_.size()), free_.push_back(v);
+      if (is_free[v]) free_.push_back(v);
     std::vector<char> active(mesh_.hexes.size(), 0);
     for (size_t v : free_)
       for (int g : node_hexes_[v]) active[size_t(g)] = 1;
@@ -169,7 +242,6 @@ class WorstRegionOptimizer {
         const int corner = int(std::find(hex.begin(), hex.end(), int(free_[i])) - hex.begin());
         slots_of_[i].push_back({slot_of[size_t(g)], corner});
       }
-    // Each node's variables in units of its mean hex edge, so one step means the same anywhere.
     // The active hexes' edge lengths when each first became active: the floor's reference.
     start_lengths_.resize(active_.size());
     for (size_t a = 0; a < active_.size(); ++a) {
@@ -177,14 +249,40 @@ class WorstRegionOptimizer {
       if (added) it->second = edge_lengths(active_[a]);
       start_lengths_[a] = it->second;
     }
+    // Each node's variables in units of its mean hex edge, so one step means the same anywhere:
+    // an interior node's three coordinates, a sliding node's two offsets in its tangent plane.
     scale_.assign(free_.size(), 0);
+    sliding_.assign(free_.size(), 0);
+    normal_.assign(free_.size(), Vec3::Zero());
+    tangent_.assign(free_.size(), {Vec3::Zero(), Vec3::Zero()});
+    origin_.assign(free_.size(), Vec3::Zero());
+    offset_.assign(free_.size(), 0);
+    variable_count_ = 0;
     for (size_t i = 0; i < free_.size(); ++i) {
-      double sum = 0;
-      int count = 0;
-      for (int g : node_hexes_[free_[i]])
-        for (int v : mesh_.hexes[size_t(g)]) sum += (mesh_.nodes[size_t(v)] - mesh_.nodes[free_[i]]).norm(), ++count;
-      scale_[i] = count ? std::max(sum / count, 1e-300) : 1.0;
+      scale_[i] = node_scale(free_[i]);
+      offset_[i] = variable_count_;
+      const auto found = slide_normal.find(free_[i]);
+      if (found == slide_normal.end()) {
+        variable_count_ += 3;
+        continue;
+      }
+      const Vec3& normal = found->second;
+      sliding_[i] = 1;
+      normal_[i] = normal;
+      const Vec3 helper = std::abs(normal.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+      tangent_[i][0] = normal.cross(helper).normalized();
+      tangent_[i][1] = normal.cross(tangent_[i][0]);
+      variable_count_ += 2;
     }
+  }
+
+  // The mean distance from node v to the nodes of its hexes (1 for a node without hexes).
+  double node_scale(size_t v) const {
+    double sum = 0;
+    int count = 0;
+    for (int g : node_hexes_[v])
+      for (int u : mesh_.hexes[size_t(g)]) sum += (mesh_.nodes[size_t(u)] - mesh_.nodes[v]).norm(), ++count;
+    return count ? std::max(sum / count, 1e-300) : 1.0;
   }
 
   std::vector<Vec3> positions() const {
@@ -196,9 +294,11 @@ class WorstRegionOptimizer {
     for (size_t i = 0; i < free_.size(); ++i) mesh_.nodes[free_[i]] = kept[i];
   }
   void place(const Eigen::VectorXd& z) {
-    for (size_t i = 0; i < free_.size(); ++i)
-      mesh_.nodes[free_[i]] =
-          scale_[i] * Vec3(z[Eigen::Index(3 * i)], z[Eigen::Index(3 * i) + 1], z[Eigen::Index(3 * i) + 2]);
+    for (size_t i = 0; i < free_.size(); ++i) {
+      const Eigen::Index o = Eigen::Index(offset_[i]);
+      mesh_.nodes[free_[i]] = sliding_[i] ? Vec3(origin_[i] + scale_[i] * (z[o] * tangent_[i][0] + z[o + 1] * tangent_[i][1]))
+                                          : Vec3(scale_[i] * Vec3(z[o], z[o + 1], z[o + 2]));
+    }
   }
   double region_min() const {
     double lowest = std::numeric_limits<double>::infinity();
@@ -283,7 +383,13 @@ class WorstRegionOptimizer {
     for (long i = 0; i < long(free_.size()); ++i) {
       Vec3 g = Vec3::Zero();
       for (const auto& [slot, corner] : slots_of_[size_t(i)]) g += hex_gradient_[8 * size_t(slot) + size_t(corner)];
-      for (int c = 0; c < 3; ++c) gradient[Eigen::Index(3 * i) + c] = g[c] * scale_[size_t(i)];
+      const Eigen::Index o = Eigen::Index(offset_[size_t(i)]);
+      if (sliding_[size_t(i)]) {
+        gradient[o] = g.dot(tangent_[size_t(i)][0]) * scale_[size_t(i)];
+        gradient[o + 1] = g.dot(tangent_[size_t(i)][1]) * scale_[size_t(i)];
+      } else {
+        for (int c = 0; c < 3; ++c) gradient[o + c] = g[c] * scale_[size_t(i)];
+      }
     }
     return total;
   }
@@ -293,8 +399,14 @@ class WorstRegionOptimizer {
   NodeCellIncidence node_hexes_;
   std::vector<char> on_boundary_;
   std::vector<size_t> free_, active_;
-  std::vector<int> var_of_;
   std::vector<double> scale_;
+  std::vector<char> sliding_;                     //!< per free node: a boundary node sliding on the input
+  std::vector<Vec3> normal_, origin_;             //!< per free node: its surface normal, where its slide starts
+  std::vector<std::array<Vec3, 2>> tangent_;      //!< per free node: its tangent plane's axes
+  std::vector<size_t> offset_;                    //!< per free node: its first variable
+  size_t variable_count_ = 0;
+  std::vector<Vec3> surface_normals_;             //!< of options.surface's triangles
+  double min_normal_cos_ = 0, knife_zone_ = 0;
   std::vector<std::vector<std::pair<int, int>>> slots_of_;  //!< per free node: (active hex slot, corner)
   std::vector<Vec3> hex_gradient_;                          //!< 8 per active hex
   std::vector<double> hex_energy_;                          //!< per active hex

@@ -10,11 +10,15 @@
 // round is kept only when it raises the region's minimum, so the mesh's minimum never falls;
 // the seeds are the worst few hexes, in batches, taken again as the minimum rises (a
 // continuation). The energy also holds every edge near its length: the scaled Jacobian alone
-// would let the solve draw two nodes together.
+// would let the solve draw two nodes together. Where the interior nodes gain nothing (the
+// worst corners held by the boundary), the region's boundary nodes off creases slide on the
+// input with them.
 #pragma once
 
 #include <dthex/mesh/node_constraints.h>
+#include <dthex/mesh/triangle_bvh.h>
 #include <dthex/mesh/types.h>
+#include <dthex/surface/features.h>
 
 namespace dthex {
 
@@ -59,6 +63,16 @@ struct OptimizeWorstRegionsOptions {
   //! iterations per round. A second round gained less than a second step does, and took longer.
   int rounds = 1;
   int iterations = 30;
+  //! Optional: the input surface. Given, the region's boundary nodes slide on it too (a move
+  //! in the tangent plane, then back onto the surface), except on creases and corners, which a
+  //! slide would round off, and near a knife edge; without it the boundary stays.
+  const TriangleBvh* surface = nullptr;
+  //! A sliding node keeps to triangles whose normal turns less than this from its own
+  //! (degrees): it does not cross a feature onto another face.
+  double max_normal_turn_deg = kDefaultFeatureAngleDeg;
+  //! Boundary nodes within this fraction of the surface's bounding-box diagonal of a knife
+  //! edge stay: the zone where the smoothers let crease nodes off it (their knife_edge_slide).
+  double knife_edge_zone = 0.005;
   //! Optional: the mesh's node_constraints(); its on_boundary is used (found here without it).
   const NodeConstraints* constraints = nullptr;
   double time_limit_seconds = 60.0;
@@ -66,18 +80,19 @@ struct OptimizeWorstRegionsOptions {
 
 struct OptimizeWorstRegionsReport {
   int steps = 0;           //!< continuation steps that raised the minimum
-  bool too_many_seeds = false;  //!< it ended at a step with more than max_seeds seeds
+  bool too_many_seeds = false;  //!< it ended at a step with more than max_seeds * max_batches seeds
   size_t seeds = 0;        //!< seed hexes, over the steps
   //! Seed hexes of the step that ended the run without raising the minimum (0: none did), e.g.
-  //! where the worst corners and their edge neighbours are all on the boundary, which stays.
+  //! where the worst corners and their edge neighbours are all on the boundary's creases.
   size_t seeds_without_gain = 0;
-  size_t moved_nodes = 0;  //!< interior nodes moved, over the steps (a node counted once per step)
+  size_t moved_nodes = 0;  //!< nodes moved, over the steps (a node counted once per step)
   double min_before = 0, min_after = 0;  //!< smallest scaled Jacobian of the mesh
   bool time_limit_reached = false;
 };
 
-//! Moves interior nodes of `mesh` near its worst hexes to raise its smallest scaled Jacobian
-//! towards options.target; the boundary does not move. The mesh's minimum never falls and no hex is inverted
+//! Moves nodes of `mesh` near its worst hexes to raise its smallest scaled Jacobian towards
+//! options.target: interior nodes, and boundary nodes off creases sliding on options.surface
+//! where that is given. The mesh's minimum never falls and no hex is inverted
 //! that was not before.
 OptimizeWorstRegionsReport optimize_worst_regions(HexMesh& mesh, const OptimizeWorstRegionsOptions& options = {});
 

@@ -552,6 +552,8 @@ double optimize_worst_below(Meshing& m, const NodeConstraints& constraints, doub
            OptimizeWorstRegionsOptions region_options;
            region_options.target = level;
            region_options.constraints = &constraints;
+           region_options.surface = &m.input_bvh;
+           region_options.knife_edge_zone = m.options.knife_edge_slide;
            region_options.time_limit_seconds = m.options.time_limit_seconds;
            return optimize_worst_regions(m.result.hexes, region_options);
          })

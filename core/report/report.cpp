@@ -185,10 +185,10 @@ std::string text(const OptimizeWorstRegionsReport& r) {
   out << "min scaled Jacobian " << r.min_before << " -> " << r.min_after;
   if (r.steps > 0)
     out << " in " << count_text("steps", size_t(r.steps)) << " (" << count_text("worst hexes", r.seeds) << ", "
-        << count_text("interior nodes", r.moved_nodes) << " around them moved together)";
+        << count_text("nodes", r.moved_nodes) << " around them moved together)";
   if (r.too_many_seeds) out << ", then too many hexes near the minimum";
   if (r.seeds_without_gain)
-    out << (r.steps ? ", then" : ":") << " no gain from the interior nodes around "
+    out << (r.steps ? ", then" : ":") << " no gain from the nodes around "
         << count_text("worst hexes", r.seeds_without_gain);
   if (r.time_limit_reached) out << ", time limit reached";
   return out.str();

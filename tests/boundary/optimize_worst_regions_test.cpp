@@ -115,3 +115,36 @@ TEST(OptimizeWorstRegions, TakesManyWorstHexesInBatches) {
   EXPECT_EQ(one.steps, 0);
   EXPECT_EQ(single.nodes, start.nodes);
 }
+
+// A slab one hex thick has no interior node: where a node of its flat top is pushed aside, only
+// the boundary nodes can straighten the hexes. Given the surface they slide on it, off its
+// edges and corners, and stay on it; without it nothing moves.
+TEST(OptimizeWorstRegions, SlidesBoundaryNodesOnTheSurfaceWhereNoInteriorNodeCanHelp) {
+  const Vec3 lo(0, 0, 0), hi(3, 3, 1);
+  const TriSurface slab = box_surface(lo, hi, {3, 3, 1});
+  HexMesh start = hex_block(lo, hi, 3, 3, 1);
+  const size_t pushed = size_t((1 * 4 + 1) * 4 + 1);  // the top's node (1, 1, 1)
+  ASSERT_EQ(start.nodes[pushed], Vec3(1, 1, 1));
+  start.nodes[pushed] = Vec3(1.7, 1.6, 1);
+  const double min_before = measure_hex_quality(start).scaled_jacobian_stats.min;
+  ASSERT_LT(min_before, 0.8);
+  OptimizeWorstRegionsOptions options;
+  options.target = 0.9;
+  HexMesh fixed = start;
+  const OptimizeWorstRegionsReport without = optimize_worst_regions(fixed, options);
+  EXPECT_EQ(without.steps, 0);
+  EXPECT_EQ(fixed.nodes, start.nodes);
+  const TriangleBvh surface(slab);
+  options.surface = &surface;
+  HexMesh slid = start;
+  const OptimizeWorstRegionsReport with = optimize_worst_regions(slid, options);
+  EXPECT_GE(with.steps, 1);
+  EXPECT_GT(measure_hex_quality(slid).scaled_jacobian_stats.min, min_before + 0.1);
+  for (size_t v = 0; v < slid.nodes.size(); ++v) {
+    const Vec3& x = slid.nodes[v];
+    EXPECT_NEAR(surface.closest_point(x).distance_sq, 0.0, 1e-20) << "node " << v << " left the surface";
+    const Vec3& s = start.nodes[v];
+    const bool on_edge = (s.x() == 0 || s.x() == 3) + (s.y() == 0 || s.y() == 3) + (s.z() == 0 || s.z() == 1) >= 2;
+    if (on_edge) EXPECT_EQ(x, s) << "node " << v << " on an edge or corner of the slab moved";
+  }
+}
