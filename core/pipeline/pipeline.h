@@ -177,6 +177,10 @@ constexpr const char* kDTHexTetgenSwitches = "pq1.5Y";
 //! PipelineOptions::min_dihedral_deg > 0 (without it, raising the target above the smoother's
 //! default costs average shape and lifts the minimum little: sliver tets bound it).
 constexpr double kLiftedTargetScaledJacobian = 0.4;
+//! The separate lift ("lift worst") runs only where at most this share of the hexes lies below
+//! its first step: above it they are a thin wall's hexes at the target, and lifting them all
+//! reshapes much of the mesh for a few hundredths on the worst.
+constexpr double kMostHexesToLift = 0.05;
 //! The switches a run uses: the given ones, else the method's default above (with
 //! min_dihedral_deg, DTHex's as pq1.5/DEG Y).
 std::string tetgen_switches_for(const PipelineOptions& options);
