@@ -26,10 +26,12 @@ struct OptimizeWorstRegionsOptions {
   //! Steps of a continuation: each takes the hexes within `margin` of the mesh's smallest
   //! scaled Jacobian as seeds and optimizes the region around them; it stops when the minimum
   //! reaches `target`, when a step raises it no further, or after `steps` steps. Each step
-  //! works on the worst few hexes only, so its cost follows them, not the mesh.
+  //! works on the worst few hexes only, so its cost follows them, not the mesh. A margin of
+  //! 0.01 rather than 0.02 takes half the seeds a step and more steps: the heart's and the
+  //! vertebra's regions in half the time, their minima the same or higher.
   double target = 0.4;
-  double margin = 0.02;
-  int steps = 8;
+  double margin = 0.01;
+  int steps = 12;
   //! Seeds per region solve: a step's seeds, worst first, are taken in batches of this many,
   //! each batch's region solved on its own (a smaller problem, and a batch that gains is kept
   //! even where another does not).
