@@ -5,6 +5,7 @@
 #include <dthex/mesh/graph_colouring.h>
 #include <dthex/mesh/incidence.h>
 #include <dthex/mesh/quality.h>
+#include <dthex/numerics/tangent_basis.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -409,8 +410,7 @@ class NodeSmoother {
       std::array<Vec3, 14> directions;
       size_t direction_count = 0;
       if (is_boundary_[size_t(v)]) {
-        const Vec3 helper = std::abs(normal.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
-        const Vec3 t1 = normal.cross(helper).normalized(), t2 = normal.cross(t1);
+        const auto [t1, t2] = tangent_basis(normal);
         for (int k = 0; k < 8; ++k) {
           const double a = k * M_PI / 4;
           directions[direction_count++] = std::cos(a) * t1 + std::sin(a) * t2;

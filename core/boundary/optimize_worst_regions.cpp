@@ -7,6 +7,7 @@
 #include <dthex/mesh/quality.h>
 #include <dthex/numerics/lbfgs.h>
 #include <dthex/surface/features.h>
+#include <dthex/numerics/tangent_basis.h>
 
 #include <Eigen/Geometry>
 
@@ -269,9 +270,7 @@ class WorstRegionOptimizer {
       const Vec3& normal = found->second;
       sliding_[i] = 1;
       normal_[i] = normal;
-      const Vec3 helper = std::abs(normal.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
-      tangent_[i][0] = normal.cross(helper).normalized();
-      tangent_[i][1] = normal.cross(tangent_[i][0]);
+      tangent_[i] = tangent_basis(normal);
       variable_count_ += 2;
     }
   }

@@ -4,6 +4,7 @@
 #include <dthex/mesh/hex_topology.h>
 #include <dthex/mesh/incidence.h>
 #include <dthex/mesh/quality.h>
+#include <dthex/numerics/tangent_basis.h>
 
 #include <algorithm>
 #include <chrono>
@@ -416,8 +417,7 @@ class FoldRepairer {
     }
     std::vector<Vec3> directions;
     if (boundary && !off_surface_) {
-      const Vec3 helper = std::abs(normal.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
-      const Vec3 t1 = normal.cross(helper).normalized(), t2 = normal.cross(t1);
+      const auto [t1, t2] = tangent_basis(normal);
       for (int k = 0; k < 8; ++k) directions.push_back(std::cos(k * M_PI / 4) * t1 + std::sin(k * M_PI / 4) * t2);
     } else {
       for (int axis = 0; axis < 3; ++axis)

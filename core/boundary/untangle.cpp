@@ -9,6 +9,7 @@
 #include <dthex/numerics/lbfgs.h>
 
 #include <dthex/mesh/quality.h>
+#include <dthex/numerics/tangent_basis.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -478,9 +479,9 @@ class Untangler {
         const Vec3 c = (points[size_t(t[1])] - points[size_t(t[0])]).cross(points[size_t(t[2])] - points[size_t(t[0])]);
         if (c.norm() > 0) n = c.normalized();
       }
-      const Vec3 helper = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
-      tangent1_[v] = n.cross(helper).normalized();
-      tangent2_[v] = n.cross(tangent1_[v]);
+      const auto [t1, t2] = tangent_basis(n);
+      tangent1_[v] = t1;
+      tangent2_[v] = t2;
       if (options_.held && options_.held(v, mesh_.nodes[v])) tangent1_[v] = tangent2_[v] = Vec3::Zero();
     }
   }
