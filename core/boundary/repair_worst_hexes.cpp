@@ -13,33 +13,10 @@
 #include <limits>
 
 namespace dthex {
-namespace {
-
-struct Tally {
-  double min = std::numeric_limits<double>::infinity();
-  size_t below = 0, inverted = 0;
-};
-
-Tally tally(const HexMesh& mesh, double threshold) {
-  const long n = long(mesh.hexes.size());
-  double min = std::numeric_limits<double>::infinity();
-  size_t below = 0, inverted = 0;
-#pragma omp parallel for schedule(static) reduction(min : min) reduction(+ : below, inverted) if (n > 50000)
-  for (long h = 0; h < n; ++h) {
-    const double sj = hex_scaled_jacobian(hex_corners(mesh, size_t(h)));
-    min = std::min(min, sj);
-    below += sj < threshold;
-    inverted += sj <= 0;
-  }
-  return {n ? min : 0.0, below, inverted};
-}
-
-}  // namespace
-
 RepairWorstHexesReport repair_worst_hexes(HexMesh& mesh, const TriangleBvh& surface,
                                           const RepairWorstHexesOptions& options) {
   RepairWorstHexesReport report;
-  const Tally before = tally(mesh, options.threshold);
+  const ScaledJacobianTally before = tally_scaled_jacobians(mesh, options.threshold);
   report.below_before = report.below_after = before.below;
   report.min_scaled_jacobian_before = report.min_scaled_jacobian_after = report.min_after_region_solve = before.min;
   if (before.below == 0) return report;
@@ -110,7 +87,7 @@ RepairWorstHexesReport repair_worst_hexes(HexMesh& mesh, const TriangleBvh& surf
   // Round after round while each leaves fewer hexes below the threshold or a higher minimum,
   // and neither a lower minimum nor more inverted hexes; the first that does not is undone
   // and ends the repair.
-  Tally now = before;
+  ScaledJacobianTally now = before;
   for (int round = 0; round < options.rounds && now.below > 0; ++round) {
     const std::vector<Vec3> kept = mesh.nodes;
     region.time_limit_seconds = seconds_left();
@@ -119,7 +96,7 @@ RepairWorstHexesReport repair_worst_hexes(HexMesh& mesh, const TriangleBvh& surf
     raise.time_limit_seconds = seconds_left();
     const LocalSmoothReport raised = smooth_worst_hexes(mesh, surface, raise);
     report.time_limit_reached = solved.time_limit_reached || raised.time_limit_reached;
-    const Tally after = tally(mesh, options.threshold);
+    const ScaledJacobianTally after = tally_scaled_jacobians(mesh, options.threshold);
     const bool gained = after.below < now.below || after.min > now.min;
     if (!gained || after.inverted > now.inverted || after.min < now.min) {
       mesh.nodes = kept;

@@ -259,6 +259,20 @@ double hex_gauss_scaled_jacobian(const std::array<Vec3, 8>& x) {
   return worst;
 }
 
+ScaledJacobianTally tally_scaled_jacobians(const HexMesh& mesh, double threshold) {
+  const long n = long(mesh.hexes.size());
+  double min = std::numeric_limits<double>::infinity();
+  size_t below = 0, inverted = 0;
+#pragma omp parallel for schedule(static) reduction(min : min) reduction(+ : below, inverted) if (n > 50000)
+  for (long h = 0; h < n; ++h) {
+    const double sj = hex_scaled_jacobian(hex_corners(mesh, size_t(h)));
+    min = std::min(min, sj);
+    below += sj < threshold;
+    inverted += sj <= 0;
+  }
+  return {n ? min : 0.0, below, inverted};
+}
+
 HexQuality measure_hex_quality(const HexMesh& mesh) {
   HexQuality q;
   const size_t n = mesh.hexes.size();

@@ -86,6 +86,15 @@ struct HexQuality {
 };
 HexQuality measure_hex_quality(const HexMesh& mesh);
 
+//! The smallest scaled Jacobian of `mesh`'s hexes (0 without hexes), how many lie below
+//! `threshold` and how many are inverted (<= 0): one pass, on both cores for large meshes,
+//! for the stages that only need these (no per-hex values kept).
+struct ScaledJacobianTally {
+  double min = 0;
+  size_t below = 0, inverted = 0;
+};
+ScaledJacobianTally tally_scaled_jacobians(const HexMesh& mesh, double threshold);
+
 std::vector<double> triangle_shapes(const TriSurface& surface);
 std::vector<double> tet_shapes(const TetMesh& mesh);
 

@@ -13,6 +13,7 @@
 #include <dthex/hexes/thex.h>
 #include <dthex/io/read_surface.h>
 #include <dthex/mesh/node_constraints.h>
+#include <dthex/mesh/quality.h>
 #include <dthex/mesh/triangle_bvh.h>
 #include <dthex/report/report.h>
 #include <dthex/surface/coarsen.h>
@@ -560,15 +561,6 @@ double optimize_worst_below(Meshing& m, const NodeConstraints& constraints, doub
       .min_after;
 }
 
-// The share of `mesh`'s hexes whose scaled Jacobian is below `level`.
-double share_of_hexes_below(const HexMesh& mesh, double level) {
-  if (mesh.hexes.empty()) return 0;
-  size_t below = 0;
-#pragma omp parallel for schedule(static) reduction(+ : below) if (mesh.hexes.size() > 50000)
-  for (long h = 0; h < long(mesh.hexes.size()); ++h) below += hex_scaled_jacobian(hex_corners(mesh, size_t(h))) < level;
-  return double(below) / double(mesh.hexes.size());
-}
-
 // The local smoother on the worst hexes (lifting them past its target where it reaches it),
 // the regions around those it leaves behind, then the region repair of those still poor.
 void smooth_and_repair_worst(Meshing& m, const NodeConstraints& constraints) {
@@ -592,7 +584,8 @@ void smooth_and_repair_worst(Meshing& m, const NodeConstraints& constraints) {
   // below the lift's first step; its worst hex 0.287 -> 0.304 for average shape 0.617 -> 0.577,
   // worst shape 0.108 -> 0.010, and 5 s).
   if (smoothed.lifted_to == 0 && smooth_options.lift_step > 0 && min_now >= target - 0.5 * smooth_options.lift_step &&
-      share_of_hexes_below(m.result.hexes, target + smooth_options.lift_step) <= kMostHexesToLift) {
+      double(tally_scaled_jacobians(m.result.hexes, target + smooth_options.lift_step).below) <=
+          kMostHexesToLift * double(m.result.hexes.hexes.size())) {
     const LocalSmoothReport lifted =
         m.stage("lift worst", [&] { return smooth_worst_hexes(m.result.hexes, m.input_bvh, smooth_options); });
     min_now =
