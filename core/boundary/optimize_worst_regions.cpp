@@ -44,6 +44,8 @@ class WorstRegionOptimizer {
   WorstRegionOptimizer(HexMesh& mesh, const OptimizeWorstRegionsOptions& options) : mesh_(mesh), options_(options) {
     node_hexes_ = NodeCellIncidence(mesh.nodes.size(), mesh.hexes);
     on_boundary_ = boundary_nodes(mesh, options.constraints ? &options.constraints->on_boundary : nullptr);
+    hex_mark_.assign(mesh.hexes.size(), 0);
+    node_mark_.assign(mesh.nodes.size(), 0);
     if (options.surface) {
       const TriangleBvh& surface = *options.surface;
       surface_normals_ = unit_triangle_normals(surface.points(), surface.triangles());
@@ -197,51 +199,57 @@ class WorstRegionOptimizer {
   // whose hexes are in it, interior or (with `slide`) sliding on the boundary; the active
   // hexes: those with a free node.
   void select(const std::vector<size_t>& seeds, bool slide) {
-    std::vector<char> in_region(mesh_.hexes.size(), 0);
-    std::vector<size_t> frontier = seeds;
-    for (size_t h : seeds) in_region[h] = 1;
-    std::vector<char> node_seen(mesh_.nodes.size(), 0);
+    // The region's hexes, ring by ring; marks on the mesh's hexes and nodes, cleared after, so
+    // a selection costs what its region holds, not what the mesh does.
+    std::vector<size_t> region = seeds, frontier = seeds, seen_nodes;
+    for (size_t h : seeds) hex_mark_[h] = 1;
     for (int ring = 0; ring < options_.region_rings; ++ring) {
       std::vector<size_t> next;
       for (size_t h : frontier)
         for (int v : mesh_.hexes[h]) {
-          if (node_seen[size_t(v)]) continue;
-          node_seen[size_t(v)] = 1;
+          if (node_mark_[size_t(v)]) continue;
+          node_mark_[size_t(v)] = 1, seen_nodes.push_back(size_t(v));
           for (int g : node_hexes_[size_t(v)])
-            if (!in_region[size_t(g)]) in_region[size_t(g)] = 1, next.push_back(size_t(g));
+            if (!hex_mark_[size_t(g)]) hex_mark_[size_t(g)] = 1, region.push_back(size_t(g)), next.push_back(size_t(g));
         }
       frontier.swap(next);
     }
+    // The nodes of the region's hexes, in index order.
+    std::vector<size_t> candidates;
+    for (size_t h : region)
+      for (int v : mesh_.hexes[h])
+        if (node_mark_[size_t(v)] != 2) node_mark_[size_t(v)] = 2, candidates.push_back(size_t(v));
+    std::sort(candidates.begin(), candidates.end());
     // Free: interior nodes all of whose hexes are in the region, and boundary ones that may slide.
-    std::vector<char> is_free(mesh_.nodes.size(), 0);
     std::unordered_map<size_t, Vec3> slide_normal;
-    for (size_t v = 0; v < mesh_.nodes.size(); ++v) {
-      if (node_hexes_[v].empty()) continue;
+    free_.clear();
+    active_.clear();
+    for (size_t v : candidates) {
       bool inside = true;
-      for (int g : node_hexes_[v]) inside = inside && in_region[size_t(g)];
+      for (int g : node_hexes_[v]) inside = inside && hex_mark_[size_t(g)];
       if (!inside) continue;
       Vec3 normal;
       if (!on_boundary_[v])
-        is_free[v] = 1;
+        free_.push_back(v);
       else if (slide && may_slide(v, node_scale(v), normal))
-        is_free[v] = 1, slide_normal[v] = normal;
+        free_.push_back(v), slide_normal[v] = normal;
     }
-    free_.clear();
-    active_.clear();
-    for (size_t v = 0; v < mesh_.nodes.size(); ++v)
-      if (is_free[v]) free_.push_back(v);
-    std::vector<char> active(mesh_.hexes.size(), 0);
+    for (size_t h : region) hex_mark_[h] = 0;
+    for (size_t v : seen_nodes) node_mark_[v] = 0;
+    for (size_t v : candidates) node_mark_[v] = 0;
+    // The active hexes, in index order, and each one's slot.
     for (size_t v : free_)
-      for (int g : node_hexes_[v]) active[size_t(g)] = 1;
-    std::vector<int> slot_of(mesh_.hexes.size(), -1);
-    for (size_t h = 0; h < active.size(); ++h)
-      if (active[h]) slot_of[h] = int(active_.size()), active_.push_back(h);
+      for (int g : node_hexes_[v])
+        if (!hex_mark_[size_t(g)]) hex_mark_[size_t(g)] = 1, active_.push_back(size_t(g));
+    std::sort(active_.begin(), active_.end());
+    std::unordered_map<size_t, int> slot_of;
+    for (size_t a = 0; a < active_.size(); ++a) hex_mark_[active_[a]] = 0, slot_of[active_[a]] = int(a);
     slots_of_.assign(free_.size(), {});
     for (size_t i = 0; i < free_.size(); ++i)
       for (int g : node_hexes_[free_[i]]) {
         const auto& hex = mesh_.hexes[size_t(g)];
         const int corner = int(std::find(hex.begin(), hex.end(), int(free_[i])) - hex.begin());
-        slots_of_[i].push_back({slot_of[size_t(g)], corner});
+        slots_of_[i].push_back({slot_of.at(size_t(g)), corner});
       }
     // The active hexes' edge lengths when each first became active: the floor's reference.
     start_lengths_.resize(active_.size());
@@ -397,6 +405,7 @@ class WorstRegionOptimizer {
   const OptimizeWorstRegionsOptions& options_;
   NodeCellIncidence node_hexes_;
   std::vector<char> on_boundary_;
+  std::vector<char> hex_mark_, node_mark_;  //!< all 0 between selections
   std::vector<size_t> free_, active_;
   std::vector<double> scale_;
   std::vector<char> sliding_;                     //!< per free node: a boundary node sliding on the input
