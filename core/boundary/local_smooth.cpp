@@ -34,6 +34,7 @@ class NodeSmoother {
       sj_[size_t(h)] = q.scaled_jacobian;
       shape_[size_t(h)] = q.shape;
     }
+    edge_ratio_floor_ = options_.min_edge_ratio * options_.min_edge_ratio;
     surface_normals_ = unit_triangle_normals(surface.points(), surface.triangles());
     min_normal_cos_ = std::cos(options_.max_normal_turn_deg * M_PI / 180.0);
     // The knife-edge zone, only where the surface has a knife edge: the nodes that start in
@@ -224,13 +225,15 @@ class NodeSmoother {
     std::vector<HexWithMovingCorner> around;  //!< the hexes of the node, when searched incrementally
     std::vector<double> trial_sj, trial_shape;  //!< per hex, at the last scored position
     std::vector<double> best_sj, best_shape;    //!< per hex, at the best position so far
+    std::vector<double> edge_ratio_now;         //!< per hex: hex_edge_ratio_squared, node where it stands
     bool best_has_shape = false;
   };
 
   // The hexes around v with v at x, into scratch.trial_*; stops early (invalid) when a
   // hex's scaled Jacobian is below `floor`, which no accepted position may do.
   //! The hexes around v with v at x. Invalid (not evaluated further) if a hex falls below
-  //! `floor`, or, with `keep_valid`, if a hex valid now falls below min(its value, target).
+  //! `floor`, or, with `keep_valid`, if a hex valid now falls below min(its value, target), or
+  //! if a hex's edge ratio falls below min(its value now, min_edge_ratio).
   Score score_at(int v, const Vec3& x, bool need_shape, double floor, bool keep_valid, Scratch& scratch) const {
     Score s;
     s.min_sj = 1;
@@ -239,14 +242,18 @@ class NodeSmoother {
     const bool incremental = !scratch.around.empty();
     for (size_t k = 0; k < hexes.size(); ++k) {
       HexScaledJacobianAndShape q;
+      double edge_ratio = 1;
       if (incremental) {
         q = scratch.around[k].at(x, need_shape);
+        if (edge_ratio_floor_ > 0) edge_ratio = scratch.around[k].edge_ratio_squared_at(x);
       } else {
         auto corners = hex_corners(mesh_, size_t(hexes[k].cell));
         corners[size_t(hexes[k].corner)] = x;
         q = need_shape ? hex_scaled_jacobian_and_shape(corners) : HexScaledJacobianAndShape{hex_scaled_jacobian(corners), 0};
+        if (edge_ratio_floor_ > 0) edge_ratio = hex_edge_ratio_squared(corners);
       }
       if (q.scaled_jacobian < floor) return s;
+      if (edge_ratio < std::min(scratch.edge_ratio_now[k], edge_ratio_floor_)) return s;
       // Around an inverted hex the floor is negative, and a move that keeps the worst hex and
       // raises the clipped sum could otherwise trade a valid hex for an inverted one: move
       // after move, nodes of a tangled region walked across the mesh.
@@ -344,6 +351,10 @@ class NodeSmoother {
     scratch.around.clear();
     scratch.trial_sj.resize(hexes.size());
     scratch.trial_shape.resize(hexes.size());
+    scratch.edge_ratio_now.assign(hexes.size(), 1.0);
+    if (edge_ratio_floor_ > 0)
+      for (size_t k = 0; k < hexes.size(); ++k)
+        scratch.edge_ratio_now[k] = hex_edge_ratio_squared(hex_corners(mesh_, size_t(hexes[k].cell)));
     Score current;
     current.valid = true;
     current.min_sj = current.min_shape = 1;
@@ -472,6 +483,7 @@ class NodeSmoother {
   std::vector<double> sj_, shape_;
   std::vector<Vec3> surface_normals_;
   double min_normal_cos_ = 0;
+  double edge_ratio_floor_ = 0;  //!< options_.min_edge_ratio squared (hex_edge_ratio_squared's unit)
   std::vector<char> near_knife_;  //!< per node: started within knife_zone_ of a knife edge
   double knife_zone_ = 0;
   Clock::time_point deadline_;

@@ -212,6 +212,22 @@ DTHEX_HEX_METRIC HexScaledJacobianAndShape HexWithMovingCorner::at(const Vec3& p
   return q;
 }
 
+double HexWithMovingCorner::edge_ratio_squared_at(const Vec3& position) const {
+  std::array<Vec3, 8> corners = corners_;
+  corners[size_t(moving_)] = position;
+  return hex_edge_ratio_squared(corners);
+}
+
+double hex_edge_ratio_squared(const std::array<Vec3, 8>& corners) {
+  double shortest = std::numeric_limits<double>::infinity(), longest = 0;
+  for (const auto& e : kHexEdges) {
+    const double l = (corners[size_t(e[0])] - corners[size_t(e[1])]).squaredNorm();
+    shortest = std::min(shortest, l);
+    longest = std::max(longest, l);
+  }
+  return longest > 0 ? shortest / longest : 0.0;
+}
+
 std::array<Vec3, 8> hex_corners(const HexMesh& mesh, size_t hex) {
   std::array<Vec3, 8> x;
   for (size_t i = 0; i < 8; ++i) x[i] = mesh.nodes[size_t(mesh.hexes[hex][i])];

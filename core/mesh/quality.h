@@ -39,6 +39,11 @@ struct HexScaledJacobianAndShape {
 };
 HexScaledJacobianAndShape hex_scaled_jacobian_and_shape(const std::array<Vec3, 8>& corners);
 
+//! The square of a hex's shortest edge over its longest (0 if every edge has zero length):
+//! what the scaled Jacobian is blind to. Verdict's shape sees it (a box of edges 1, 1, r has
+//! shape about 2r), the scaled Jacobian does not (1 at any r).
+double hex_edge_ratio_squared(const std::array<Vec3, 8>& corners);
+
 //! Where a hex's scaled Jacobian is taken: the corner (0-7) whose frame is the smallest,
 //! or 8 for the centre frame. Only the nodes of that frame can raise it.
 int hex_worst_scaled_jacobian_frame(const std::array<Vec3, 8>& corners);
@@ -55,6 +60,8 @@ class HexWithMovingCorner {
  public:
   HexWithMovingCorner(const std::array<Vec3, 8>& corners, int moving);
   HexScaledJacobianAndShape at(const Vec3& position, bool need_shape = true);
+  //! hex_edge_ratio_squared of the hex with the moving corner at `position`.
+  double edge_ratio_squared_at(const Vec3& position) const;
 
  private:
   std::array<Vec3, 8> corners_;

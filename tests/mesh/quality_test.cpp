@@ -105,6 +105,21 @@ TEST(Quality, MirroredHexIsInverted) {
   EXPECT_NEAR(hex_scaled_jacobian(x), -1.0, 1e-12);
 }
 
+// A box of edges 1, 1 and 0.2: the scaled Jacobian sees a perfect hex, the edge ratio 0.2.
+TEST(Quality, EdgeRatioSeesWhatTheScaledJacobianDoesNot) {
+  std::array<Vec3, 8> box;
+  for (int i = 0; i < 8; ++i) box[size_t(i)] = Vec3((i == 1 || i == 2 || i == 5 || i == 6) ? 1 : 0, (i % 4) >= 2 ? 1 : 0, i >= 4 ? 0.2 : 0);
+  EXPECT_NEAR(hex_scaled_jacobian(box), 1.0, 1e-12);
+  EXPECT_NEAR(hex_edge_ratio_squared(box), 0.04, 1e-12);
+  HexWithMovingCorner moving(box, 6);
+  // The top corner pulled down to 0.05: its vertical edge 0.05, the longest (6-7, 6-5) 1.0112.
+  EXPECT_NEAR(moving.edge_ratio_squared_at(Vec3(1, 1, 0.05)), 0.0025 / 1.0225, 1e-12);
+  EXPECT_NEAR(hex_edge_ratio_squared(box), 0.04, 1e-12);
+  std::array<Vec3, 8> point;
+  point.fill(Vec3::Zero());
+  EXPECT_EQ(hex_edge_ratio_squared(point), 0.0);
+}
+
 TEST(Quality, CollapsedEdgeHasZeroScaledJacobian) {
   auto x = unit_cube();
   x[1] = x[0];
