@@ -28,13 +28,16 @@ class NodeSmoother {
     is_boundary_ = boundary_nodes(mesh, options.constraints ? &options.constraints->on_boundary : nullptr);
     sj_.resize(mesh.hexes.size());
     shape_.resize(mesh.hexes.size());
+    edge_ratio_floor_ = options_.min_edge_ratio * options_.min_edge_ratio;
+    if (edge_ratio_floor_ > 0) edge_ratio_.resize(mesh.hexes.size());
 #pragma omp parallel for schedule(static) if (mesh.hexes.size() > 50000)
     for (long h = 0; h < long(mesh.hexes.size()); ++h) {
-      const HexScaledJacobianAndShape q = hex_scaled_jacobian_and_shape(hex_corners(mesh, size_t(h)));
+      const std::array<Vec3, 8> corners = hex_corners(mesh, size_t(h));
+      const HexScaledJacobianAndShape q = hex_scaled_jacobian_and_shape(corners);
       sj_[size_t(h)] = q.scaled_jacobian;
       shape_[size_t(h)] = q.shape;
+      if (edge_ratio_floor_ > 0) edge_ratio_[size_t(h)] = hex_edge_ratio_squared(corners);
     }
-    edge_ratio_floor_ = options_.min_edge_ratio * options_.min_edge_ratio;
     surface_normals_ = unit_triangle_normals(surface.points(), surface.triangles());
     min_normal_cos_ = std::cos(options_.max_normal_turn_deg * M_PI / 180.0);
     // The knife-edge zone, only where the surface has a knife edge: the nodes that start in
@@ -351,10 +354,6 @@ class NodeSmoother {
     scratch.around.clear();
     scratch.trial_sj.resize(hexes.size());
     scratch.trial_shape.resize(hexes.size());
-    scratch.edge_ratio_now.assign(hexes.size(), 1.0);
-    if (edge_ratio_floor_ > 0)
-      for (size_t k = 0; k < hexes.size(); ++k)
-        scratch.edge_ratio_now[k] = hex_edge_ratio_squared(hex_corners(mesh_, size_t(hexes[k].cell)));
     Score current;
     current.valid = true;
     current.min_sj = current.min_shape = 1;
@@ -366,6 +365,9 @@ class NodeSmoother {
       current.min_shape = std::min(current.min_shape, sh);
     }
     if (!shape_pass && current.min_sj >= options_.target_scaled_jacobian) return false;
+    scratch.edge_ratio_now.assign(hexes.size(), 1.0);
+    if (edge_ratio_floor_ > 0)
+      for (size_t k = 0; k < hexes.size(); ++k) scratch.edge_ratio_now[k] = edge_ratio_[size_t(hexes[k].cell)];
 
     double scale = 0;
     const Vec3 laplacian = edge_neighbour_mean(v, scale);
@@ -470,8 +472,11 @@ class NodeSmoother {
   bool commit_move(int v, const Vec3& x, const Scratch& scratch) {
     const NodeCellIncidence::Entries hexes = node_hexes_.entries(size_t(v));
     mesh_.nodes[size_t(v)] = x;
-    for (size_t k = 0; k < hexes.size(); ++k)
-      sj_[size_t(hexes[k].cell)] = scratch.best_sj[k], shape_[size_t(hexes[k].cell)] = scratch.best_shape[k];
+    for (size_t k = 0; k < hexes.size(); ++k) {
+      const size_t h = size_t(hexes[k].cell);
+      sj_[h] = scratch.best_sj[k], shape_[h] = scratch.best_shape[k];
+      if (edge_ratio_floor_ > 0) edge_ratio_[h] = hex_edge_ratio_squared(hex_corners(mesh_, h));
+    }
     return true;
   }
 
@@ -481,6 +486,7 @@ class NodeSmoother {
   NodeCellIncidence node_hexes_;  //!< with corners
   std::vector<char> is_boundary_;
   std::vector<double> sj_, shape_;
+  std::vector<double> edge_ratio_;  //!< per hex: hex_edge_ratio_squared (only with a floor)
   std::vector<Vec3> surface_normals_;
   double min_normal_cos_ = 0;
   double edge_ratio_floor_ = 0;  //!< options_.min_edge_ratio squared (hex_edge_ratio_squared's unit)

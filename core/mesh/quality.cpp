@@ -196,6 +196,17 @@ HexWithMovingCorner::HexWithMovingCorner(const std::array<Vec3, 8>& corners, int
   const double t = fixed.worst_t(fixed.count);
   if (t < 0) fixed_shape_zero_ = true;
   else fixed_t_ = std::min(fixed_t_, t);
+  int moving_edge_count = 0;
+  for (int e = 0; e < 12; ++e) {
+    const auto& edge = kHexEdges[size_t(e)];
+    if (edge[0] == moving || edge[1] == moving) {
+      moving_edges_[size_t(moving_edge_count++)] = e;
+      continue;
+    }
+    const double l = (corners_[size_t(edge[0])] - corners_[size_t(edge[1])]).squaredNorm();
+    fixed_shortest_sq_ = std::min(fixed_shortest_sq_, l);
+    fixed_longest_sq_ = std::max(fixed_longest_sq_, l);
+  }
 }
 
 DTHEX_HEX_METRIC HexScaledJacobianAndShape HexWithMovingCorner::at(const Vec3& position, bool need_shape) {
@@ -213,9 +224,17 @@ DTHEX_HEX_METRIC HexScaledJacobianAndShape HexWithMovingCorner::at(const Vec3& p
 }
 
 double HexWithMovingCorner::edge_ratio_squared_at(const Vec3& position) const {
-  std::array<Vec3, 8> corners = corners_;
-  corners[size_t(moving_)] = position;
-  return hex_edge_ratio_squared(corners);
+  // The same lengths as hex_edge_ratio_squared, and min and max are exact: equal results.
+  double shortest = fixed_shortest_sq_, longest = fixed_longest_sq_;
+  for (const int e : moving_edges_) {
+    const auto& edge = kHexEdges[size_t(e)];
+    const Vec3& a = edge[0] == moving_ ? position : corners_[size_t(edge[0])];
+    const Vec3& b = edge[1] == moving_ ? position : corners_[size_t(edge[1])];
+    const double l = (a - b).squaredNorm();
+    shortest = std::min(shortest, l);
+    longest = std::max(longest, l);
+  }
+  return longest > 0 ? shortest / longest : 0.0;
 }
 
 double hex_edge_ratio_squared(const std::array<Vec3, 8>& corners) {

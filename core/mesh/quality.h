@@ -71,6 +71,10 @@ class HexWithMovingCorner {
   double fixed_sj_ = std::numeric_limits<double>::max();
   double fixed_t_ = std::numeric_limits<double>::max();
   bool fixed_shape_zero_ = false;
+  //! The nine edges away from the moving corner: their shortest and longest (squared), and
+  //! the three others (their indices in the hex's edge list).
+  double fixed_shortest_sq_ = std::numeric_limits<double>::infinity(), fixed_longest_sq_ = 0;
+  std::array<int, 3> moving_edges_{};
 };
 
 std::array<Vec3, 8> hex_corners(const HexMesh& mesh, size_t hex);

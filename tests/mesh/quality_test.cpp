@@ -237,6 +237,7 @@ TEST(Quality, MovingCornerEqualsFullEvaluation) {
         EXPECT_EQ(fast.scaled_jacobian, full.scaled_jacobian);
         EXPECT_EQ(fast.shape, full.shape);
         EXPECT_EQ(moving.at(y[size_t(c)], false).scaled_jacobian, hex_scaled_jacobian(y));
+        EXPECT_EQ(moving.edge_ratio_squared_at(y[size_t(c)]), hex_edge_ratio_squared(y));
         inverted += full.scaled_jacobian <= 0;
         ++checked;
       }
