@@ -168,7 +168,9 @@ int run(CommandLine& cl) {
   progress.begin("write");
   dthex::HexFields fields{result.quality.shape, result.quality.scaled_jacobian};
   dthex::AtomicWriteGroup outputs;  // all outputs appear together, or none does
-  dthex::MeshSets sets = dthex::find_mesh_sets(result.hexes, result.input);
+  dthex::MeshSetsOptions sets_options;
+  sets_options.input_tree = result.input_tree.get();  // the pipeline's, not built again
+  dthex::MeshSets sets = dthex::find_mesh_sets(result.hexes, result.input, sets_options);
   const dthex::SurfaceNames names = dthex::read_surface_names(cl.input);  // OBJ o/g names the parts
   dthex::name_parts_by_input(sets, result.hexes, names.surface, names.triangle_name, names.names);
   dthex::add_user_sets(sets, result.hexes, cl.user_sets);  // an empty set is an error, before any file

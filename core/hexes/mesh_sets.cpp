@@ -13,6 +13,7 @@
 #include <cctype>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <numeric>
 #include <regex>
 #include <sstream>
@@ -139,14 +140,23 @@ std::vector<int> patches_by_hex_creases(const HexMesh& mesh, const std::vector<s
 
 // The triangles beside each triangle across its edges of exactly two triangles, from the
 // surface's sorted_half_edges.
-std::vector<std::vector<int>> triangle_neighbours(const std::vector<HalfEdge>& edge_uses, size_t triangles) {
-  std::vector<std::vector<int>> neighbours(triangles);
+// At most three (one per edge), in the order of the edges' keys; -1 pads.
+using TriangleNeighbours = std::array<int, 3>;
+std::vector<TriangleNeighbours> triangle_neighbours(const std::vector<HalfEdge>& edge_uses, size_t triangles) {
+  std::vector<TriangleNeighbours> neighbours(triangles, TriangleNeighbours{-1, -1, -1});
+  auto add = [&](int t, int u) {
+    for (int& slot : neighbours[size_t(t)])
+      if (slot < 0) {
+        slot = u;
+        return;
+      }
+  };
   for (size_t i = 0; i < edge_uses.size();) {
     size_t j = i;
     while (j < edge_uses.size() && edge_uses[j].key == edge_uses[i].key) ++j;
     if (j - i == 2) {
-      neighbours[size_t(edge_uses[i].triangle)].push_back(edge_uses[i + 1].triangle);
-      neighbours[size_t(edge_uses[i + 1].triangle)].push_back(edge_uses[i].triangle);
+      add(edge_uses[i].triangle, edge_uses[i + 1].triangle);
+      add(edge_uses[i + 1].triangle, edge_uses[i].triangle);
     }
     i = j;
   }
@@ -162,7 +172,7 @@ std::vector<std::vector<int>> triangle_neighbours(const std::vector<HalfEdge>& e
 // along: a band is what a tolerance finds on a gently curved surface); otherwise its triangles
 // are released, and not tried as seeds again. Last, a small hole (a group of other triangles
 // bordered by one region only, under a twentieth of its area) is given to its region.
-std::vector<int> planar_regions(const TriSurface& input, const std::vector<std::vector<int>>& neighbours,
+std::vector<int> planar_regions(const TriSurface& input, const std::vector<TriangleNeighbours>& neighbours,
                                 const MeshSetsOptions& options) {
   const size_t n = input.triangles.size();
   std::vector<int> region(n, -1);
@@ -201,6 +211,7 @@ std::vector<int> planar_regions(const TriSurface& input, const std::vector<std::
     double area_sum = area[seed];
     for (size_t next = 0; next < members.size(); ++next)
       for (int u : neighbours[size_t(members[next])]) {
+        if (u < 0) break;
         if (in_members[size_t(u)] || region[size_t(u)] >= 0 || area[size_t(u)] <= 0) continue;
         if (normal[size_t(u)].dot(plane_normal) < cos_angle) continue;
         bool near = true;
@@ -256,6 +267,7 @@ std::vector<int> planar_regions(const TriSurface& input, const std::vector<std::
       const int t = members[next];
       group_area += area[size_t(t)];
       for (int u : neighbours[size_t(t)]) {
+        if (u < 0) break;
         if (region[size_t(u)] >= 0) {
           if (border >= 0 && border != region[size_t(u)]) one_border = false;
           border = region[size_t(u)];
@@ -293,7 +305,9 @@ std::vector<int> patches_by_input_creases(const HexMesh& mesh, const std::vector
     }
     i = j;
   }
-  const TriangleBvh tree(input);
+  std::unique_ptr<TriangleBvh> own_tree;
+  if (!options.input_tree) own_tree = std::make_unique<TriangleBvh>(input);
+  const TriangleBvh& tree = options.input_tree ? *options.input_tree : *own_tree;
   std::vector<int> label(quads.size());
   int hint = -1;
   for (size_t q = 0; q < quads.size(); ++q) {

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <dthex/mesh/hex_topology.h>
+#include <dthex/mesh/triangle_bvh.h>
 #include <dthex/mesh/types.h>
 
 #include <array>
@@ -66,6 +67,10 @@ struct MeshSetsOptions {
   //! A planar region is a patch only when its area is at least this fraction of the input's
   //! area; 0 turns planar regions off.
   double planar_min_area_fraction = 0.01;
+  //! Optional: a search tree over the same input surface, if the caller has one (om_dthex keeps
+  //! the pipeline's, PipelineResult::input_tree). Without it the overload with the input builds
+  //! its own, which at a million triangles takes about half a second.
+  const TriangleBvh* input_tree = nullptr;
 };
 
 //! Finds the parts (hexes connected through shared nodes, and of one region when mesh.region is

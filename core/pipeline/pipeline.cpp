@@ -920,7 +920,8 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
   std::unique_ptr<TriangleBvh> input_tree;
   PipelineResult result = read_and_verify(input_path, progress, &input_tree, options);
   if (!input_tree) input_tree = std::make_unique<TriangleBvh>(result.input);
-  const TriangleBvh& input_bvh = *input_tree;
+  result.input_tree = std::move(input_tree);
+  const TriangleBvh& input_bvh = *result.input_tree;
   remesh_if_needed(result, input_bvh, options, progress);
   const std::unique_ptr<TriangleBvh> remeshed_bvh =
       result.remeshed.triangles.empty() ? nullptr : std::make_unique<TriangleBvh>(result.remeshed);

@@ -119,6 +119,9 @@ struct PipelineResult {
   double eps = 0;
   int dice = 0;                       //!< the dicing used (PipelineOptions::dice, or chosen for target_nodes)
   TriSurface input;                   //!< as read, repaired (PipelineOptions::repair) and verified
+  //! A search tree over `input` (projection and the distance measurement used it; the writer's
+  //! patches can, MeshSetsOptions::input_tree). Unset by read_and_verify alone.
+  std::shared_ptr<const TriangleBvh> input_tree;
   SurfaceRepairReport repairs;        //!< what the safe repairs did (`ran` false with --repair none)
   SurfaceSummary input_summary;
   //! The input remeshed with even triangles (PipelineOptions::remesh), which the coarsening

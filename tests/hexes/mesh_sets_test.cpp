@@ -344,6 +344,20 @@ TEST(MeshSets, TheFemursDistalCutIsOnePatch) {
   const FaceSet& cut = patch_facing(r.hexes, s, Vec3(0, 0, -1));
   EXPECT_LT(largest_distance_from_plane(r.hexes, cut, Vec3(0, 0, lowest), Vec3(0, 0, -1)), 1.0);
   EXPECT_NEAR(cut.area, cut_area, 0.15 * cut_area);
+  // The pipeline's search tree over the input, handed in, finds the same patches face for face.
+  ASSERT_TRUE(r.input_tree);
+  MeshSetsOptions with_tree;
+  with_tree.input_tree = r.input_tree.get();
+  const MeshSets same = find_mesh_sets(r.hexes, r.input, with_tree);
+  ASSERT_EQ(same.surfaces.size(), s.surfaces.size());
+  for (size_t i = 0; i < s.surfaces.size(); ++i) {
+    EXPECT_EQ(same.surfaces[i].name, s.surfaces[i].name);
+    ASSERT_EQ(same.surfaces[i].faces.size(), s.surfaces[i].faces.size());
+    for (size_t f = 0; f < s.surfaces[i].faces.size(); ++f) {
+      EXPECT_EQ(same.surfaces[i].faces[f].hex, s.surfaces[i].faces[f].hex);
+      EXPECT_EQ(same.surfaces[i].faces[f].side, s.surfaces[i].faces[f].side);
+    }
+  }
   // Without planar regions the cut is no patch of its own.
   MeshSetsOptions creases_only;
   creases_only.planar_min_area_fraction = 0;
