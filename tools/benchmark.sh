@@ -66,6 +66,17 @@ done
 
 bench="$build/benchmark"
 shown="$(basename "$build")/benchmark"  # as the files name it: no path outside the repository
+if [ ! -f "$build/CMakeCache.txt" ]; then
+  echo "benchmark.sh: $build is not a build folder; build first (bash tools/setup.sh)" >&2
+  exit 2
+fi
+# Brought up to date with its sources first, so the figures are the checked-out commit's.
+built_now=0
+if cmake --build "$build" -j"$(nproc)" --target benchmark om_dthex hex_quality >"$build/benchmark-build.log" 2>&1; then
+  built_now=1
+else
+  echo "benchmark.sh: building in $build failed (see $build/benchmark-build.log); measuring the binaries there" >&2
+fi
 if [ ! -x "$bench" ]; then
   echo "benchmark.sh: $bench not found; build first (bash tools/setup.sh)" >&2
   exit 2
@@ -88,7 +99,7 @@ elif git -C "$source_dir" rev-parse --git-dir >/dev/null 2>&1; then
   # (With --peers-only the binary that runs is om_dthex.)
   checked=$bench
   if [ "$peers_only" = 1 ]; then checked=$build/om_dthex; shown="$(basename "$build")/om_dthex"; fi
-  if [ "$(stat -c %Y "$checked")" -lt "$(git -C "$source_dir" log -1 --format=%ct)" ]; then
+  if [ "$built_now" = 0 ] && [ "$(stat -c %Y "$checked")" -lt "$(git -C "$source_dir" log -1 --format=%ct)" ]; then
     tree="$tree; but $shown is older than this commit, so it may be an earlier one's"
   fi
 else
@@ -270,11 +281,13 @@ scaling_section() {
       echo "(\`$shown $scaling_mesh --methods dthex --subdivide K --markdown\`), measured"
       echo "$(date -u '+%Y-%m-%d %H:%M UTC'), commit \`$commit\` ($tree), load average $(cut -d' ' -f1-3 /proc/loadavg) at the"
       echo "start. The bundled table above is K = 0. \"Floor\" is the seconds the run spent reading and"
-      echo "verifying its input, \"x floor\" the whole run's seconds over it; peak MB is the run's largest"
-      echo "resident set, and the stage that reached it."
+      echo "verifying its input, \"x floor\" the pipeline's seconds over it; \"then write\" the seconds"
+      echo "to write the mesh after that (.vtu with parts and boundary patches, as om_dthex writes it),"
+      echo "not in the pipeline's seconds; peak MB is the run's largest resident set, and the stage"
+      echo "that reached it."
       echo
-      echo "| K | triangles | nodes | seconds | floor (read + verify) | x floor | coarsen | peak MB | at stage |"
-      echo "|---:|---:|---:|---:|---:|---:|---:|---:|---|"
+      echo "| K | triangles | nodes | seconds | floor (read + verify) | x floor | coarsen | then write | peak MB | at stage |"
+      echo "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
       for k in $scaling; do
         awk -F, -v k="$k" '
           NR == 1 { for (i = 1; i <= NF; ++i) col[$i] = i; next }
@@ -283,16 +296,16 @@ scaling_section() {
             message = $0
             for (i = 1; i < col["message"]; ++i) sub(/^[^,]*,/, "", message)
             gsub(/^"|"$/, "", message); gsub(/""/, "\"", message); gsub(/\|/, "\\|", message)
-            printf "| %s | %s | | %s: %s | | | | | |\n", k, $col["input_triangles"], $col["status"], message
+            printf "| %s | %s | | %s: %s | | | | | | |\n", k, $col["input_triangles"], $col["status"], message
             next
           }
           {
             floor = $col["t_read"] + $col["t_verify"]; peak = 0; at = ""
             for (c in col) if (c ~ /^peak_mb_/ && $col[c] != "" && $col[c] + 0 > peak) { peak = $col[c] + 0; at = substr(c, 9) }
             gsub(/_/, " ", at)
-            printf "| %s | %s | %s | %.2f | %.2f | %.1f | %.2f | %.0f | %s |\n", k, $col["input_triangles"], $col["nodes"],
+            printf "| %s | %s | %s | %.2f | %.2f | %.1f | %.2f | %.2f | %.0f | %s |\n", k, $col["input_triangles"], $col["nodes"],
                    $col["total_seconds"], floor, (floor > 0 ? $col["total_seconds"] / floor : 0), $col["t_coarsen"],
-                   $col["peak_mb"], at
+                   $col["t_write"], $col["peak_mb"], at
           }' "$work/scaling_$k.csv"
       done
       for k in $scaling; do
@@ -414,8 +427,13 @@ calculix=$(sed -n '/<!-- calculix-table:begin -->/,/<!-- calculix-table:end -->/
   echo "smallest hex scaled Jacobian, both as Verdict (ParaView, VTK) defines them (1 ideal, 0 or"
   echo "less degenerate or inverted); Hausdorff is the two-sided distance between the hex mesh's"
   echo "boundary and the input surface, in % of the input's bounding-box diagonal; volume error is"
-  echo "against the input's volume; seconds are the run's wall time and peak MB its largest resident"
-  echo "set. Times vary from run to run on a shared machine; the other columns do not."
+  echo "against the input's volume; seconds are the pipeline's wall time, from reading the input to"
+  echo "measuring the mesh (writing it follows: \"then write\" in the per-stage table), and peak MB"
+  echo "the run's largest resident set. In the per-stage tables \"thin walls\" is the prediction of"
+  echo "thin walls, which sets up the coarsening (features, curvature sizes); \"tet edits\" the edits"
+  echo "of TetGen's tets before THex; \"smooth\" the local smoother of the worst hexes and its lift;"
+  echo "\"regions\" the optimization of the worst regions. Times vary from run to run on a shared"
+  echo "machine; the other columns do not."
   echo
   echo "## DTHex against THex, the bundled meshes"
   echo

@@ -9,7 +9,9 @@
 //   build/benchmark                      every surface in meshes/
 //   build/benchmark --only femur --csv femur.csv
 //   build/benchmark --subdivide 2 meshes/femur_proximal_ct.off   (Loop-subdivided twice: 16x triangles)
+#include <dthex/hexes/mesh_sets.h>
 #include <dthex/io/read_surface.h>
+#include <dthex/io/write_hex_mesh.h>
 #include <dthex/io/write_surface.h>
 #include <dthex/mesh/surface_mesh.h>
 #include <dthex/pipeline/pipeline.h>
@@ -41,9 +43,50 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The pipeline's stage names, in order; a stage not listed (a future one) lands in "other".
-const std::vector<std::string> kStages = {"read",  "verify", "choose eps", "coarsen", "verify coarse", "tetrahedralize",
-                                          "thex",  "dice",   "project",    "untangle", "measure"};
+// The columns of seconds and peak memory, in the pipeline's order, and the stages each one
+// sums (a stage run twice, as in a retry sized by thickness, counts twice). A stage listed
+// nowhere (a future one) lands in "other". "write" is the harness's own: the mesh written as
+// om_dthex writes it (.vtu, with its parts and boundary patches) to a temporary file.
+struct StageColumn {
+  std::string name;
+  std::vector<std::string> stages;
+};
+const std::vector<StageColumn> kColumns = {
+    {"read", {"read"}},
+    {"verify", {"verify"}},
+    {"remesh", {"remesh input"}},
+    {"choose eps", {"choose eps"}},
+    {"thin walls", {"predict thin walls", "thin walls"}},
+    {"coarsen", {"coarsen"}},
+    {"verify coarse", {"verify coarse"}},
+    {"tetrahedralize", {"tetrahedralize"}},
+    {"tet edits",
+     {"flip boundary edges", "flip 3-2", "merge inner points", "split surface tets", "flip worst tets",
+      "relax inner points", "split crowded vertices"}},
+    {"thex", {"thex"}},
+    {"dice", {"dice"}},
+    {"project", {"project"}},
+    {"untangle", {"untangle"}},
+    {"smooth", {"smooth worst", "lift worst", "repair worst"}},
+    {"regions", {"optimize worst regions"}},
+    {"repair folds", {"repair folds"}},
+    {"measure", {"measure"}},
+    {"write", {"write"}}};
+
+// The column a stage's seconds go to.
+std::string column_of(const std::string& stage) {
+  for (const StageColumn& c : kColumns)
+    if (std::find(c.stages.begin(), c.stages.end(), stage) != c.stages.end()) return c.name;
+  return "other";
+}
+
+// The column names, "other" last.
+std::vector<std::string> column_names() {
+  std::vector<std::string> names;
+  for (const StageColumn& c : kColumns) names.push_back(c.name);
+  names.push_back("other");
+  return names;
+}
 
 struct Row {
   std::string mesh, method, status = "ok", message;
@@ -86,9 +129,7 @@ void read_report(const nlohmann::json& j, Row& row) {
   const nlohmann::json& stages = j["stages"];
   const nlohmann::json peaks = j.value("stage_peak_mb", nlohmann::json::array());
   for (size_t i = 0; i < stages.size(); ++i) {
-    const std::string name = stages[i]["name"];
-    const bool known = std::find(kStages.begin(), kStages.end(), name) != kStages.end();
-    const std::string column = known ? name : "other";
+    const std::string column = column_of(stages[i]["name"]);
     row.stage_seconds[column] += stages[i]["seconds"].get<double>();
     if (i < peaks.size()) row.stage_peak_mb[column] = std::max(row.stage_peak_mb[column], peaks[i].get<double>());
   }
@@ -193,6 +234,29 @@ class StageMemory {
   std::thread thread_;  // last: starts once the members above exist
 };
 
+// Where the child `pid` writes its mesh (write_as_om_dthex_does).
+fs::path written_mesh_path(pid_t pid) {
+  return fs::temp_directory_path() / ("om_dthex_benchmark_" + std::to_string(pid) + ".vtu");
+}
+
+// Writes the mesh as om_dthex does by default (.vtu with its parts and boundary patches, the
+// pipeline's tree over the input handed to the patches) to a temporary file, then removes it;
+// returns the seconds it took. A user waits for this too, after the pipeline's total.
+double write_as_om_dthex_does(const dthex::PipelineResult& result, dthex::Progress& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  progress.begin("write");
+  const fs::path path = written_mesh_path(::getpid());
+  dthex::MeshSetsOptions sets_options;
+  sets_options.input_tree = result.input_tree.get();
+  const dthex::MeshSets sets = dthex::find_mesh_sets(result.hexes, result.input, sets_options);
+  const dthex::HexFields fields{result.quality.shape, result.quality.scaled_jacobian};
+  dthex::write_hex_mesh(result.hexes, path.string(), fields, &sets);
+  std::error_code ignored;
+  fs::remove(path, ignored);
+  progress.end("written");
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 // Runs the pipeline in a child; the child sends its JSON report through a pipe, with the
 // peak resident set of each stage added ("stage_peak_mb", in the order of "stages").
 Row run_one(const std::string& path, const std::string& mesh, const std::string& method,
@@ -216,11 +280,14 @@ Row run_one(const std::string& path, const std::string& mesh, const std::string&
                                memory.stream());
       progress.set_every_stage(true);
       const dthex::PipelineResult result = dthex::run_pipeline(path, options, progress);
+      const double write_seconds = write_as_om_dthex_does(result, progress);
       if (memory.stream()) std::fflush(memory.stream());
       memory.stop();
       nlohmann::json j = nlohmann::json::parse(dthex::report_json(result, options));
+      j["stages"].push_back({{"name", "write"}, {"seconds", write_seconds}});
       std::vector<std::string> names;
       for (const auto& stage : result.stages) names.push_back(stage.name);
+      names.push_back("write");
       if (memory.stream()) j["stage_peak_mb"] = memory.peaks_mb(names);
       text = j.dump();
     } catch (const std::exception& e) {
@@ -261,6 +328,8 @@ Row run_one(const std::string& path, const std::string& mesh, const std::string&
   int status = 0;
   rusage usage{};
   ::wait4(pid, &status, 0, &usage);
+  std::error_code ignored;
+  fs::remove(written_mesh_path(pid), ignored);  // a child killed while writing leaves it
   row.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   row.peak_mb = double(usage.ru_maxrss) / 1024.0;  // Linux reports kilobytes
   if (timed_out) {
@@ -318,10 +387,10 @@ std::vector<std::string> csv_header() {
                                 "tets",      "nodes",     "hexes",    "shape_avg",       "shape_std",
                                 "shape_min", "shape_max", "sj_min",   "inverted",        "conforming",
                                 "boundary_faces_inside", "hausdorff_pct", "volume_error_pct"};
-  for (const auto& s : kStages) h.push_back(column_name(s));
-  h.insert(h.end(), {"t_other", "total_seconds", "peak_mb"});
-  for (const auto& s : kStages) h.push_back(column_name(s, "peak_mb_"));
-  h.insert(h.end(), {"peak_mb_other", "message"});
+  for (const auto& s : column_names()) h.push_back(column_name(s));
+  h.insert(h.end(), {"total_seconds", "peak_mb"});
+  for (const auto& s : column_names()) h.push_back(column_name(s, "peak_mb_"));
+  h.push_back("message");
   return h;
 }
 
@@ -356,20 +425,16 @@ std::vector<std::string> csv_fields(const Row& r) {
                                 std::to_string(r.boundary_faces_inside),
                                 num(r.hausdorff_percent),
                                 num(r.volume_error_percent)};
-  for (const auto& s : kStages) {
+  for (const auto& s : column_names()) {
     const auto it = r.stage_seconds.find(s);
     f.push_back(it == r.stage_seconds.end() ? "" : num(it->second));
   }
-  const auto other = r.stage_seconds.find("other");
-  f.push_back(other == r.stage_seconds.end() ? "" : num(other->second));
   f.push_back(num(r.total_seconds));
   f.push_back(num(r.peak_mb));
-  for (const auto& s : kStages) {
+  for (const auto& s : column_names()) {
     const auto it = r.stage_peak_mb.find(s);
     f.push_back(it == r.stage_peak_mb.end() ? "" : num(it->second));
   }
-  const auto other_peak = r.stage_peak_mb.find("other");
-  f.push_back(other_peak == r.stage_peak_mb.end() ? "" : num(other_peak->second));
   f.push_back(r.message);
   return f;
 }
@@ -401,22 +466,25 @@ std::string tables(const std::vector<Row>& rows, bool markdown) {
                                                     "shape std", "shape min", "shape max", "min SJ", "inverted",
                                                     "conforming", "Hausdorff %", "volume err %", "seconds", "peak MB"}};
   std::vector<std::vector<std::string>> timing = {{"mesh", "method"}}, memory = {{"mesh", "method"}};
+  // The columns some row has, "write" apart: it comes after the pipeline's total, which
+  // does not include it (the headline's seconds are that total).
   std::vector<std::string> stages_seen;
-  for (const auto& s : kStages)
+  bool written = false;
+  for (const auto& s : column_names())
     for (const Row& r : rows)
       if (r.stage_seconds.count(s)) {
-        stages_seen.push_back(s);
+        if (s == "write")
+          written = true;
+        else
+          stages_seen.push_back(s);
         break;
       }
-  for (const Row& r : rows)
-    if (r.stage_seconds.count("other")) {
-      stages_seen.push_back("other");
-      break;
-    }
   for (const auto& s : stages_seen) timing[0].push_back(s);
   timing[0].push_back("total");
-  memory[0] = timing[0];
-  memory[0].back() = "whole run";
+  if (written) timing[0].push_back("then write");
+  for (const auto& s : stages_seen) memory[0].push_back(s);
+  if (written) memory[0].push_back("write");
+  memory[0].push_back("whole run");
   for (const Row& r : rows) {
     if (r.status != "ok") {
       std::vector<std::string> line = {r.mesh, r.method, r.status + ": " + r.message};
@@ -436,12 +504,16 @@ std::string tables(const std::vector<Row>& rows, bool markdown) {
       line.push_back(it == r.stage_seconds.end() ? "-" : fixed(it->second, 2));
     }
     line.push_back(fixed(r.total_seconds, 2));
+    const auto write_seconds = r.stage_seconds.find("write");
+    if (written) line.push_back(write_seconds == r.stage_seconds.end() ? "-" : fixed(write_seconds->second, 2));
     timing.push_back(line);
     std::vector<std::string> peaks = {r.mesh, r.method};
     for (const auto& s : stages_seen) {
       const auto it = r.stage_peak_mb.find(s);
       peaks.push_back(it == r.stage_peak_mb.end() ? "-" : fixed(it->second, 0));
     }
+    const auto write_peak = r.stage_peak_mb.find("write");
+    if (written) peaks.push_back(write_peak == r.stage_peak_mb.end() ? "-" : fixed(write_peak->second, 0));
     peaks.push_back(fixed(r.peak_mb, 0));
     memory.push_back(peaks);
   }
