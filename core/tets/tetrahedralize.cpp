@@ -80,18 +80,6 @@ bool write_all(int fd, const void* data, size_t bytes) {
   return true;
 }
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kAddressSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-
 //! Keeps the child from outliving its parent (a killed om_dthex must not leave TetGen
 //! running) and from taking more memory than the machine has: past the cap TetGen's
 //! allocations fail and it exits with its out-of-memory code instead of making the

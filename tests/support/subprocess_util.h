@@ -17,6 +17,8 @@
 #include <sstream>
 #include <string>
 
+#include <dthex/io/atomic_file.h>
+
 #include "scratch_dir.h"
 
 namespace dthex_test {
@@ -72,6 +74,27 @@ inline int run_with_file_size_limit(rlim_t max_file_bytes, const std::function<i
   ::waitpid(pid, &status, 0);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
+
+//! Runs `write` in a child whose files may not grow past max_file_bytes (as a full disk would
+//! refuse them) and says what it threw: 0 an OutputError (om_dthex's exit 2: the user's disk,
+//! not a bug), 1 nothing, 2 another runtime_error, 3 another InputError, -1 killed.
+inline int write_failure_under_file_size_limit(rlim_t max_file_bytes, const std::function<void()>& write) {
+  return run_with_file_size_limit(max_file_bytes, [&] {
+    try {
+      write();
+    } catch (const dthex::OutputError&) {
+      return 0;
+    } catch (const dthex::InputError&) {
+      return 3;
+    } catch (const std::runtime_error&) {
+      return 2;
+    }
+    return 1;
+  });
+}
+//! What write_failure_under_file_size_limit's codes mean, for a test's failure message.
+inline constexpr const char* kWriteFailureCodes =
+    "0 = OutputError thrown, 1 = no error, 2 = other runtime_error, 3 = other InputError, -1 = killed";
 
 namespace fs = std::filesystem;
 
