@@ -239,16 +239,15 @@ fs::path written_mesh_path(pid_t pid) {
   return fs::temp_directory_path() / ("om_dthex_benchmark_" + std::to_string(pid) + ".vtu");
 }
 
-// Writes the mesh as om_dthex does by default (.vtu with its parts and boundary patches, the
-// pipeline's tree over the input handed to the patches) to a temporary file, then removes it;
+// Writes the mesh as om_dthex does by default (.vtu with its parts and boundary patches,
+// find_result_sets()) to a temporary file, then removes it;
 // returns the seconds it took. A user waits for this too, after the pipeline's total.
-double write_as_om_dthex_does(const dthex::PipelineResult& result, dthex::Progress& progress) {
+double write_as_om_dthex_does(const dthex::PipelineResult& result, const std::string& input_path,
+                              dthex::Progress& progress) {
   const auto start = std::chrono::steady_clock::now();
   progress.begin("write");
   const fs::path path = written_mesh_path(::getpid());
-  dthex::MeshSetsOptions sets_options;
-  sets_options.input_tree = result.input_tree.get();
-  const dthex::MeshSets sets = dthex::find_mesh_sets(result.hexes, result.input, sets_options);
+  const dthex::MeshSets sets = dthex::find_result_sets(result, input_path);
   const dthex::HexFields fields{result.quality.shape, result.quality.scaled_jacobian};
   dthex::write_hex_mesh(result.hexes, path.string(), fields, &sets);
   std::error_code ignored;
@@ -280,7 +279,7 @@ Row run_one(const std::string& path, const std::string& mesh, const std::string&
                                memory.stream());
       progress.set_every_stage(true);
       const dthex::PipelineResult result = dthex::run_pipeline(path, options, progress);
-      const double write_seconds = write_as_om_dthex_does(result, progress);
+      const double write_seconds = write_as_om_dthex_does(result, path, progress);
       if (memory.stream()) std::fflush(memory.stream());
       memory.stop();
       nlohmann::json j = nlohmann::json::parse(dthex::report_json(result, options));

@@ -168,12 +168,8 @@ int run(CommandLine& cl) {
   progress.begin("write");
   dthex::HexFields fields{result.quality.shape, result.quality.scaled_jacobian};
   dthex::AtomicWriteGroup outputs;  // all outputs appear together, or none does
-  dthex::MeshSetsOptions sets_options;
-  sets_options.input_tree = result.input_tree.get();  // the pipeline's, not built again
-  dthex::MeshSets sets = dthex::find_mesh_sets(result.hexes, result.input, sets_options);
-  const dthex::SurfaceNames names = dthex::read_surface_names(cl.input);  // OBJ o/g names the parts
-  dthex::name_parts_by_input(sets, result.hexes, names.surface, names.triangle_name, names.names);
-  dthex::add_user_sets(sets, result.hexes, cl.user_sets);  // an empty set is an error, before any file
+  // An empty user set is an error here, before any file is written.
+  const dthex::MeshSets sets = dthex::find_result_sets(result, cl.input, cl.user_sets);
   dthex::write_hex_mesh(result.hexes, cl.output, fields, &sets, cl.write);
   if (!cl.coarse_surface.empty()) dthex::write_surface(result.coarse, cl.coarse_surface);
   if (!cl.report.empty()) {

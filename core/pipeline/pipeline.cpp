@@ -950,4 +950,15 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
   return result;
 }
 
+MeshSets find_result_sets(const PipelineResult& result, const std::string& input_path,
+                          const std::vector<UserSetSpec>& user_sets) {
+  MeshSetsOptions options;
+  options.input_tree = result.input_tree.get();
+  MeshSets sets = find_mesh_sets(result.hexes, result.input, options);
+  const SurfaceNames names = read_surface_names(input_path);
+  name_parts_by_input(sets, result.hexes, names.surface, names.triangle_name, names.names);
+  add_user_sets(sets, result.hexes, user_sets);
+  return sets;
+}
+
 }  // namespace dthex

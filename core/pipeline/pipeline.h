@@ -6,6 +6,7 @@
 #pragma once
 
 #include <dthex/boundary/local_smooth.h>
+#include <dthex/hexes/mesh_sets.h>
 #include <dthex/mesh/quality.h>
 #include <dthex/mesh/triangle_bvh.h>
 #include <dthex/mesh/types.h>
@@ -199,5 +200,13 @@ PipelineResult read_and_verify(const std::string& input_path, Progress& progress
 
 //! Runs every stage. Throws InputError (bad input) or MeshingError (a stage failed).
 PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions& options, Progress& progress);
+
+//! The parts and boundary sets om_dthex writes with a result: find_mesh_sets() against the
+//! input surface (with the pipeline's search tree over it, not built again), the parts named by
+//! the input file's OBJ `o`/`g` names where it has them (read again from `input_path`), then
+//! the user's sets. Throws InputError when a user set selects no face or repeats a name.
+//! Written once for om_dthex and the benchmark harness, so both time the same write.
+MeshSets find_result_sets(const PipelineResult& result, const std::string& input_path,
+                          const std::vector<UserSetSpec>& user_sets = {});
 
 }  // namespace dthex
