@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 // The pipeline's own decisions around the coarsening: a coarsening that fails at a large eps
-// falls back to a smaller one, for a given eps and in the --target-nodes search.
+// falls back to a smaller one, for a given eps and in the --target-nodes search. And the sets
+// written with a result (find_result_sets).
 #include <dthex/io/read_surface.h>
 #include <dthex/io/write_surface.h>
+#include <dthex/mesh/hex_topology.h>
 #include <dthex/pipeline/pipeline.h>
 #include <dthex/report/report.h>
 #include <dthex/surface/coarsen.h>
@@ -12,6 +14,7 @@
 #include "scratch_dir.h"
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 namespace {
@@ -135,4 +138,60 @@ TEST(PipelineEpsFallback, TargetNodesSearchPassesOverAFailingFineEnd) {
   EXPECT_GT(choose->finest_eps, 0.001);
   EXPECT_GE(result.eps, choose->finest_eps);
   EXPECT_NEAR(double(result.hexes.nodes.size()), double(options.target_nodes), 0.1 * double(options.target_nodes));
+}
+
+// The sets om_dthex writes with a result, found once for om_dthex and the benchmark: the
+// input's OBJ object name names the part and its boundary, the patches are those found
+// against the input (the pipeline's tree handed in gives the same ones as a tree built
+// anew), the user's set is added with its node set, and a user set that selects no face is
+// refused before anything is written.
+TEST(PipelineResultSets, AreTheObjNamesThePatchesAndTheUserSets) {
+  const TriSurface sphere = read_surface(std::string(DTHEX_SOURCE_DIR) + "/meshes/sphere728.off");
+  std::string text;
+  for (const Vec3& p : sphere.points)
+    text += "v " + std::to_string(p.x()) + " " + std::to_string(p.y()) + " " + std::to_string(p.z()) + "\n";
+  text += "o Cortex shell\n";
+  for (const auto& t : sphere.triangles)
+    text += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
+  const std::string path = (dthex_test::fresh_dir("result_sets") / "named_sphere.obj").string();
+  {
+    std::ofstream out(path);
+    out << text;
+  }
+  Progress quiet(Progress::Mode::Quiet);
+  const PipelineResult result = run_pipeline(path, fast_options(), quiet);
+  ASSERT_NE(result.input_tree, nullptr);
+
+  const MeshSets sets = find_result_sets(result, path, {parse_user_set("upper=box:-2,-2,0.5,2,2,2")});
+  ASSERT_EQ(sets.parts.size(), 1u);
+  EXPECT_EQ(sets.parts[0].name, "Cortex_shell");  // made a valid set name
+  EXPECT_EQ(sets.parts[0].hexes.size(), result.hexes.hexes.size());
+  auto surface_named = [&](const std::string& name) -> const FaceSet* {
+    for (const FaceSet& s : sets.surfaces)
+      if (s.name == name) return &s;
+    return nullptr;
+  };
+  const FaceSet* boundary = surface_named("Cortex_shell_boundary");
+  const FaceSet* upper = surface_named("upper");
+  ASSERT_NE(boundary, nullptr);
+  ASSERT_NE(upper, nullptr);
+  EXPECT_GT(upper->faces.size(), 0u);
+  EXPECT_LT(upper->faces.size(), boundary->faces.size());  // the cap above z = 0.5 only
+  for (const HexFace& f : upper->faces)
+    for (int k : kHexFaces[size_t(f.side)]) EXPECT_GE(result.hexes.nodes[size_t(result.hexes.hexes[size_t(f.hex)][size_t(k)])].z(), 0.5);
+  EXPECT_EQ(sets.node_sets.size(), sets.surfaces.size());  // every surface has its node set
+
+  // The patches: those of find_mesh_sets against the input with a tree of its own.
+  const MeshSets anew = find_mesh_sets(result.hexes, result.input);
+  size_t patches = 0;
+  for (const FaceSet& s : anew.surfaces) {
+    if (s.name.rfind("patch", 0) != 0) continue;
+    ++patches;
+    const FaceSet* same = surface_named(s.name);
+    ASSERT_NE(same, nullptr) << s.name;
+    EXPECT_EQ(same->faces, s.faces) << s.name;
+  }
+  EXPECT_GE(patches, 1u);
+
+  EXPECT_THROW(find_result_sets(result, path, {parse_user_set("far=box:5,5,5,6,6,6")}), InputError);
 }
