@@ -67,7 +67,7 @@ const std::vector<StageColumn> kColumns = {
     {"dice", {"dice"}},
     {"project", {"project"}},
     {"untangle", {"untangle"}},
-    {"smooth", {"smooth worst", "lift worst", "repair worst"}},
+    {"smooth", {"smooth worst", "lift worst", "slide on creases", "repair worst"}},
     {"regions", {"optimize worst regions"}},
     {"repair folds", {"repair folds"}},
     {"measure", {"measure"}},

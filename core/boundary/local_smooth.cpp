@@ -299,7 +299,16 @@ class NodeSmoother {
   // Where a step from x along d lands: x + d for an interior node; for a boundary node the
   // closest surface point, refused (false) if it jumps further than the step (another sheet)
   // or onto a part of the surface facing elsewhere (across a feature).
-  bool landing(int v, const Vec3& x, const Vec3& d, const Vec3& normal, Vec3& out) const {
+  // A node held on a crease line, moving along it: the line's kind and unit direction where
+  // the node stands, and the radius within which the crease tests look.
+  struct CreaseLine {
+    CreaseKind kind = CreaseKind::none;
+    Vec3 direction = Vec3::Zero();
+    double radius = 0;
+  };
+
+  bool landing(int v, const Vec3& x, const Vec3& d, const Vec3& normal, Vec3& out,
+               const CreaseLine* line = nullptr) const {
     if (!is_boundary_[size_t(v)]) {
       out = x + d;
       return true;
@@ -308,7 +317,16 @@ class NodeSmoother {
     const TriangleBvh::ClosestPoint cp = surface_.closest_point(moved);
     if (cp.triangle < 0) return false;
     if (std::sqrt(cp.distance_sq) > d.norm()) return false;
-    if (surface_normals_[size_t(cp.triangle)].dot(normal) < min_normal_cos_) return false;
+    if (line) {
+      // Still on a crease line of the same kind and about the same direction: the node has
+      // moved along the crease, not off it.
+      Vec3 there = Vec3::Zero();
+      const CreaseKind kind = crease_at(surface_, surface_normals_, cp.point, surface_normals_[size_t(cp.triangle)],
+                                        line->radius, min_normal_cos_, there);
+      if (kind != line->kind || std::abs(there.dot(line->direction)) < min_normal_cos_) return false;
+    } else if (surface_normals_[size_t(cp.triangle)].dot(normal) < min_normal_cos_) {
+      return false;
+    }
     if (near_knife_[size_t(v)] && !near_knife_edge(surface_, surface_normals_, cp.point, knife_zone_)) return false;
     out = cp.point;
     return true;
@@ -373,8 +391,11 @@ class NodeSmoother {
     const Vec3 laplacian = edge_neighbour_mean(v, scale);
     if (!(scale > 0)) return false;
 
-    // Search directions: the axes, or for a boundary node the tangent plane of the surface.
+    // Search directions: the axes, or for a boundary node the tangent plane of the surface,
+    // or for one held on a crease line that line.
     Vec3 normal = Vec3::Zero();
+    CreaseLine crease;
+    const CreaseLine* along_crease = nullptr;
     if (is_boundary_[size_t(v)]) {
       const TriangleBvh::ClosestPoint cp = surface_.closest_point(x);
       if (cp.triangle < 0) return false;
@@ -386,10 +407,19 @@ class NodeSmoother {
       const bool held = !options_.constraints || options_.constraints->on_feature.empty() ||
                         options_.constraints->is_feature(size_t(v));
       if (on_surface_crease(surface_, surface_normals_, x, normal, 1e-6 * scale, min_normal_cos_, !held) &&
-          !(near_knife_[size_t(v)] && on_knife_edge(x, normal, 1e-6 * scale)))
-        return false;
+          !(near_knife_[size_t(v)] && on_knife_edge(x, normal, 1e-6 * scale))) {
+        // Held on the crease: along its line at most.
+        if (!options_.slide_along_creases) return false;
+        crease.radius = 1e-6 * scale;
+        crease.kind = crease_at(surface_, surface_normals_, x, normal, crease.radius, min_normal_cos_, crease.direction);
+        if (crease.kind != CreaseKind::convex_line && crease.kind != CreaseKind::concave_line) return false;
+        along_crease = &crease;
+      }
     }
-    auto tangential = [&](Vec3 d) { return is_boundary_[size_t(v)] ? Vec3(d - d.dot(normal) * normal) : d; };
+    auto tangential = [&](Vec3 d) {
+      if (along_crease) return Vec3(d.dot(along_crease->direction) * along_crease->direction);
+      return is_boundary_[size_t(v)] ? Vec3(d - d.dot(normal) * normal) : d;
+    };
 
     bool moved = false;
     auto accept = [&](const Vec3& y, const Score& s) {
@@ -408,7 +438,7 @@ class NodeSmoother {
       const Vec3 d = tangential(laplacian - x);
       for (double t : {1.0, 0.5}) {
         Vec3 y;
-        if (!landing(v, x, t * d, normal, y)) continue;
+        if (!landing(v, x, t * d, normal, y, along_crease)) continue;
         const Score s = score_at(v, y, need_shape, floor_for(current, true), current.min_sj <= 0, scratch);
         if (better(s, current, true, hexes.size())) {
           accept(y, s);
@@ -422,7 +452,10 @@ class NodeSmoother {
         scratch.around.emplace_back(hex_corners(mesh_, size_t(i.cell)), i.corner);
       std::array<Vec3, 14> directions;
       size_t direction_count = 0;
-      if (is_boundary_[size_t(v)]) {
+      if (along_crease) {
+        directions[direction_count++] = along_crease->direction;
+        directions[direction_count++] = -along_crease->direction;
+      } else if (is_boundary_[size_t(v)]) {
         const auto [t1, t2] = tangent_basis(normal);
         for (int k = 0; k < 8; ++k) {
           const double a = k * M_PI / 4;
@@ -446,7 +479,7 @@ class NodeSmoother {
           const size_t dir = last_good >= 0 ? (size_t(last_good) + k) % direction_count : k;
           Vec3 y;
           ++trials;
-          if (!landing(v, x, step * directions[dir], normal, y)) continue;
+          if (!landing(v, x, step * directions[dir], normal, y, along_crease)) continue;
           const Score s = score_at(v, y, need_shape, floor_for(current, shape_pass), current.min_sj <= 0, scratch);
           if (better(s, current, shape_pass, hexes.size())) {
             accept(y, s);

@@ -561,6 +561,27 @@ double optimize_worst_below(Meshing& m, const NodeConstraints& constraints, doub
       .min_after;
 }
 
+// Stage "slide on creases": the worst hexes left by the smoother and the regions often have a
+// corner at a node on a crease line, which both hold still (the regions move interior nodes,
+// and boundary nodes off creases only). Their crease nodes move along their lines, raising the
+// hexes within kCreaseSlideBand of the minimum (so the minimum cannot fall), and where that
+// gains, the regions run again around the freed hexes. Returns the minimum after.
+double slide_worst_on_creases(Meshing& m, const NodeConstraints& constraints, const LocalSmoothOptions& smoothed_with,
+                              double min_now) {
+  const double level = smoothed_with.lift_to_scaled_jacobian;
+  if (min_now >= level) return min_now;
+  LocalSmoothOptions along = smoothed_with;
+  along.slide_along_creases = true;
+  along.shape_sweeps = 0;
+  along.lift_step = 0;
+  along.target_scaled_jacobian = std::min(level, min_now + kCreaseSlideBand);
+  const double after =
+      m.stage("slide on creases", [&] { return smooth_worst_hexes(m.result.hexes, m.input_bvh, along); })
+          .min_scaled_jacobian_after;
+  if (!(after > min_now)) return std::max(min_now, after);
+  return optimize_worst_below(m, constraints, level, after);
+}
+
 // The local smoother on the worst hexes (lifting them past its target where it reaches it),
 // the regions around those it leaves behind, then the region repair of those still poor.
 void smooth_and_repair_worst(Meshing& m, const NodeConstraints& constraints) {
@@ -591,6 +612,7 @@ void smooth_and_repair_worst(Meshing& m, const NodeConstraints& constraints) {
     min_now =
         optimize_worst_below(m, constraints, std::max(target, lifted.lifted_to), lifted.min_scaled_jacobian_after);
   }
+  min_now = slide_worst_on_creases(m, constraints, smooth_options, min_now);
   RepairWorstHexesOptions repair_options;
   repair_options.constraints = &constraints;
   repair_options.knife_edge_slide = options.knife_edge_slide;

@@ -197,3 +197,41 @@ TEST(LocalSmooth, AttemptBudgetBoundsTheQueueAndTheWorstComeFirst) {
   EXPECT_GT(bounded.min_scaled_jacobian_after, bounded.min_scaled_jacobian_before);
   EXPECT_DOUBLE_EQ(bounded.min_scaled_jacobian_after, measure_hex_quality(mesh).scaled_jacobian_stats.min);
 }
+
+// A node on a crease line moves along it only with slide_along_creases, and stays on it. A
+// row of 4 x 1 x 1 hexes in the unit box has every node on an edge of the box; with the node
+// at (0.25, 0, 0) pushed along its edge to (0.45, 0, 0) its two hexes are skewed, and held on
+// the creases nothing can move. Sliding, the nodes move along the edges and the hexes are
+// nearly cubes again; every edge node stays on its edge's line, and the corners stay.
+TEST(LocalSmooth, CreaseNodesSlideAlongTheirLineOnlyWhenAsked) {
+  const Vec3 lo(0, 0, 0), hi(1, 0.25, 0.25);
+  const TriSurface box = box_surface(lo, hi, {4, 1, 1});
+  HexMesh pushed = hex_block(lo, hi, 4, 1, 1);
+  label_boundary(pushed, box);
+  const size_t edge_node = 1;  // (0.25, 0, 0): hex_block numbers x fastest
+  ASSERT_LT((pushed.nodes[edge_node] - Vec3(0.25, 0, 0)).norm(), 1e-15);
+  pushed.nodes[edge_node] = Vec3(0.45, 0, 0);
+  const double before = measure_hex_quality(pushed).scaled_jacobian_stats.min;
+  ASSERT_GT(before, 0);
+  ASSERT_LT(before, 0.75);
+  const TriangleBvh bvh(box);
+  LocalSmoothOptions options;
+  options.target_scaled_jacobian = 0.95;
+  options.lift_step = 0;
+  options.shape_sweeps = 0;
+
+  HexMesh held = pushed, slid = pushed;
+  smooth_worst_hexes(held, bvh, options);
+  options.slide_along_creases = true;
+  smooth_worst_hexes(slid, bvh, options);
+  EXPECT_EQ(held.nodes, pushed.nodes);  // held: nothing moves
+  EXPECT_GE(measure_hex_quality(slid).scaled_jacobian_stats.min, 0.95 - 1e-12);
+  EXPECT_LT(slid.nodes[edge_node].x(), 0.35);  // back along the edge
+  for (size_t v = 0; v < slid.nodes.size(); ++v) {
+    const Vec3& was = pushed.nodes[v];
+    const bool corner = (was.x() == lo.x() || was.x() == hi.x());
+    if (corner) EXPECT_EQ(slid.nodes[v], was) << "corner " << v << " moved";
+    EXPECT_NEAR(slid.nodes[v].y(), was.y(), 1e-12) << "node " << v << " left its edge";
+    EXPECT_NEAR(slid.nodes[v].z(), was.z(), 1e-12) << "node " << v << " left its edge";
+  }
+}
