@@ -231,8 +231,9 @@ class CrowdedVertexSplitter {
       if (s.worst > best.worst + 1e-12 || (s.worst > best.worst - 1e-12 && s.larger_side < best.larger_side))
         best = std::move(s);
     }
-    if (best.to_new.empty() || !(best.worst > 0) || best.worst < options_.min_quality_ratio * worst_around(v))
-      return false;
+    const double ratio = int(link.size()) > options_.very_crowded_tets ? options_.very_crowded_quality_ratio
+                                                                        : options_.min_quality_ratio;
+    if (best.to_new.empty() || !(best.worst > 0) || best.worst < ratio * worst_around(v)) return false;
     apply(v, link, best);
     return true;
   }

@@ -10,7 +10,10 @@
 #include "refine_fixtures.h"
 #include "tet_edit_fixtures.h"
 
+#include <dthex/io/read_surface.h>
 #include <gtest/gtest.h>
+
+#include <map>
 
 #include <algorithm>
 #include <cmath>
@@ -30,6 +33,7 @@ SplitCrowdedVerticesOptions down_to_28() {
   SplitCrowdedVerticesOptions options;
   options.max_tets = 28;
   options.min_quality_ratio = 0.7;
+  options.very_crowded_quality_ratio = 0.7;
   return options;
 }
 
@@ -122,4 +126,53 @@ TEST(SplitCrowdedVertices, LiftsTheWorstHexOfTheConedSphereAboveOneHalf) {
   EXPECT_LT(without, 0.5);
   EXPECT_GT(with, 0.5);
   EXPECT_GT(with, without + 0.1);
+}
+
+// The most crowded vertices take a worse split. The bundled icosahedron, its faces split in
+// four onto its sphere and coned to its centre, makes a star of 80 even tets whose best split
+// keeps 0.95-0.99 of its worst tet: it is not split where every split must keep 0.99, and is
+// where a vertex in more than 51 tets need keep only 0.9; not when 80 tets is not "more than"
+// the bound.
+TEST(SplitCrowdedVertices, TheMostCrowdedTakeAWorseSplit) {
+  const TriSurface ico = read_surface(std::string(DTHEX_SOURCE_DIR) + "/meshes/icosahedron.off");
+  TriSurface finer;
+  finer.points = ico.points;
+  std::map<std::pair<int, int>, int> middle;
+  auto midpoint = [&](int a, int b) {
+    const auto key = std::minmax(a, b);
+    const auto it = middle.find(key);
+    if (it != middle.end()) return it->second;
+    finer.points.push_back((ico.points[size_t(a)] + ico.points[size_t(b)]).normalized() * ico.points[size_t(a)].norm());
+    return middle[key] = int(finer.points.size()) - 1;
+  };
+  for (const auto& t : ico.triangles) {
+    const int ab = midpoint(t[0], t[1]), bc = midpoint(t[1], t[2]), ca = midpoint(t[2], t[0]);
+    finer.triangles.push_back({t[0], ab, ca});
+    finer.triangles.push_back({ab, t[1], bc});
+    finer.triangles.push_back({ca, bc, t[2]});
+    finer.triangles.push_back({ab, bc, ca});
+  }
+  Vec3 centre = Vec3::Zero();
+  for (const Vec3& p : finer.points) centre += p / double(finer.points.size());
+  const TetMesh coned = dthex::testing::star_tets(finer, centre);
+  ASSERT_EQ(most_tets_at_interior_vertex(coned), 80);
+  SplitCrowdedVerticesOptions strict;
+  strict.max_tets = 28;
+  strict.max_passes = 1;
+  strict.min_quality_ratio = 0.99;
+  strict.very_crowded_quality_ratio = 0.99;
+  SplitCrowdedVerticesOptions lenient = strict;
+  lenient.very_crowded_tets = 51;
+  lenient.very_crowded_quality_ratio = 0.9;
+  SplitCrowdedVerticesOptions at_the_bound = lenient;
+  at_the_bound.very_crowded_tets = 80;
+
+  TetMesh a = coned, b = coned, c = coned;
+  const double volume = total_volume(coned);
+  EXPECT_EQ(split_crowded_vertices(a, strict).split, 0u);
+  const SplitCrowdedVerticesReport split = split_crowded_vertices(b, lenient);
+  EXPECT_EQ(split.split, 1u);
+  EXPECT_LT(split.most_tets_after, 80);
+  expect_valid(b, volume);
+  EXPECT_EQ(split_crowded_vertices(c, at_the_bound).split, 0u);
 }
