@@ -7,6 +7,7 @@
 #include <dthex/boundary/repair_boundary_folds.h>
 #include <dthex/boundary/repair_worst_hexes.h>
 #include <dthex/boundary/untangle.h>
+#include <dthex/hexes/boundary_overlap.h>
 #include <dthex/hexes/conformity.h>
 #include <dthex/hexes/dice.h>
 #include <dthex/hexes/node_count.h>
@@ -565,7 +566,10 @@ double optimize_worst_below(Meshing& m, const NodeConstraints& constraints, doub
 // corner at a node on a crease line, which both hold still (the regions move interior nodes,
 // and boundary nodes off creases only). Their crease nodes move along their lines, raising the
 // hexes within kCreaseSlideBand of the minimum (so the minimum cannot fall), and where that
-// gains, the regions run again around the freed hexes. Returns the minimum after.
+// gains, the regions run again around the freed hexes. A slide that folds boundary faces into
+// the mesh is undone: a node moved along a concave crease can turn a quad over there, and the
+// fold repair would then lower the hexes around it (the shared armadillo's worst 0.243 -> 0.202).
+// Returns the minimum after.
 double slide_worst_on_creases(Meshing& m, const NodeConstraints& constraints, const LocalSmoothOptions& smoothed_with,
                               double min_now) {
   const double level = smoothed_with.lift_to_scaled_jacobian;
@@ -575,11 +579,25 @@ double slide_worst_on_creases(Meshing& m, const NodeConstraints& constraints, co
   along.shape_sweeps = 0;
   along.lift_step = 0;
   along.target_scaled_jacobian = std::min(level, min_now + kCreaseSlideBand);
-  const double after =
-      m.stage("slide on creases", [&] { return smooth_worst_hexes(m.result.hexes, m.input_bvh, along); })
-          .min_scaled_jacobian_after;
-  if (!(after > min_now)) return std::max(min_now, after);
-  return optimize_worst_below(m, constraints, level, after);
+  HexMesh& hexes = m.result.hexes;
+  const CreaseSlideStageReport slid = m.stage("slide on creases", [&] {
+    CreaseSlideStageReport report;
+    const std::vector<Vec3> before = hexes.nodes;
+    report.smooth = smooth_worst_hexes(hexes, m.input_bvh, along);
+    if (report.smooth.moves == 0) return report;
+    std::vector<std::array<int, 4>> quads;
+    std::vector<int> owners;
+    report.faces_inside_after = check_conformity(hexes, &quads, &owners).boundary_faces_inside;
+    if (report.faces_inside_after == 0) return report;
+    std::vector<Vec3> after = std::move(hexes.nodes);
+    hexes.nodes = before;
+    report.faces_inside_before = find_boundary_faces_inside(hexes, quads, owners).faces_inside;
+    report.undone = report.faces_inside_after > report.faces_inside_before;
+    if (!report.undone) hexes.nodes = std::move(after);
+    return report;
+  });
+  if (slid.undone || !(slid.smooth.min_scaled_jacobian_after > min_now)) return min_now;
+  return optimize_worst_below(m, constraints, level, slid.smooth.min_scaled_jacobian_after);
 }
 
 // The local smoother on the worst hexes (lifting them past its target where it reaches it),

@@ -126,6 +126,14 @@ struct RepairWorstStageReport {
   size_t hexes = 0;
 };
 
+//! Stage "slide on creases": the smoother's report, and whether the slide was undone because
+//! it folded boundary faces into the mesh (more of them inside it than before the slide).
+struct CreaseSlideStageReport {
+  LocalSmoothReport smooth;
+  size_t faces_inside_before = 0, faces_inside_after = 0;  //!< counted only where the slide moved nodes
+  bool undone = false;
+};
+
 //! Stage "measure": what makes the mesh good or poor.
 struct MeasureReport {
   size_t inverted = 0;
@@ -166,7 +174,8 @@ using StageReport =
     std::variant<ReadReport, SurfaceSummary, RemeshStageReport, ThinWallReport, ChooseEpsReport, CoarsenStageReport,
                  TetrahedralizeReport, BoundaryEdgesReport, FlipThreeTetEdgesReport, CollapseInteriorVerticesReport,
                  SplitSurfaceTetsReport, FlipWorstTetsReport, RelaxInteriorPointsReport, SplitCrowdedVerticesReport,
-                 HexCountReport, ProjectReport, UntangleReport, LocalSmoothReport, OptimizeWorstRegionsReport, RepairWorstStageReport,
+                 HexCountReport, ProjectReport, UntangleReport, LocalSmoothReport, OptimizeWorstRegionsReport, CreaseSlideStageReport,
+                 RepairWorstStageReport,
                  RepairBoundaryFoldsReport, MeasureReport, MeshTryReport, ThinWallPredictionReport>;
 
 struct StageRecord {

@@ -221,6 +221,15 @@ std::string text(const LocalSmoothReport& r) {
   return out.str();
 }
 
+std::string text(const CreaseSlideStageReport& s) {
+  if (!s.undone) return text(s.smooth);
+  std::ostringstream out;
+  out << "undone: the slide (min scaled Jacobian " << s.smooth.min_scaled_jacobian_before << " -> "
+      << s.smooth.min_scaled_jacobian_after << ") left " << count_text("boundary faces", s.faces_inside_after)
+      << " inside the mesh, " << s.faces_inside_before << " before it";
+  return out.str();
+}
+
 std::string text(const RepairWorstStageReport& s) {
   const RepairWorstHexesReport& r = s.repair;
   std::ostringstream out;
@@ -433,6 +442,14 @@ json fields(const LocalSmoothReport& r) {
           {"moves", r.moves},
           {"sweeps", r.sweeps},
           {"time_limit_reached", r.time_limit_reached}};
+}
+
+json fields(const CreaseSlideStageReport& s) {
+  json j = fields(s.smooth);
+  j["faces_inside_before"] = s.faces_inside_before;
+  j["faces_inside_after"] = s.faces_inside_after;
+  j["undone"] = s.undone;
+  return j;
 }
 
 json fields(const RepairWorstStageReport& s) {
