@@ -630,7 +630,12 @@ void smooth_and_repair_worst(Meshing& m, const NodeConstraints& constraints) {
     min_now =
         optimize_worst_below(m, constraints, std::max(target, lifted.lifted_to), lifted.min_scaled_jacobian_after);
   }
-  min_now = slide_worst_on_creases(m, constraints, smooth_options, min_now);
+  // Each slide and regions frees hexes the next can raise: again while a round gains.
+  for (int round = 0; round < kCreaseSlideRounds; ++round) {
+    const double was = min_now;
+    min_now = slide_worst_on_creases(m, constraints, smooth_options, min_now);
+    if (!(min_now > was + 1e-3)) break;
+  }
   RepairWorstHexesOptions repair_options;
   repair_options.constraints = &constraints;
   repair_options.knife_edge_slide = options.knife_edge_slide;
