@@ -569,9 +569,11 @@ double optimize_worst_below(Meshing& m, const NodeConstraints& constraints, doub
 // gains, the regions run again around the freed hexes. A slide that folds boundary faces into
 // the mesh is undone: a node moved along a concave crease can turn a quad over there, and the
 // fold repair would then lower the hexes around it (the shared armadillo's worst 0.243 -> 0.202).
+// `quads` and `owners` are the mesh's boundary_quads() and their hexes, found by the first
+// slide that needs them (empty until then; the topology does not change between rounds).
 // Returns the minimum after.
 double slide_worst_on_creases(Meshing& m, const NodeConstraints& constraints, const LocalSmoothOptions& smoothed_with,
-                              double min_now) {
+                              double min_now, std::vector<std::array<int, 4>>& quads, std::vector<int>& owners) {
   const double level = smoothed_with.lift_to_scaled_jacobian;
   if (min_now >= level) return min_now;
   LocalSmoothOptions along = smoothed_with;
@@ -585,9 +587,8 @@ double slide_worst_on_creases(Meshing& m, const NodeConstraints& constraints, co
     const std::vector<Vec3> before = hexes.nodes;
     report.smooth = smooth_worst_hexes(hexes, m.input_bvh, along);
     if (report.smooth.moves == 0) return report;
-    std::vector<std::array<int, 4>> quads;
-    std::vector<int> owners;
-    report.faces_inside_after = check_conformity(hexes, &quads, &owners).boundary_faces_inside;
+    if (quads.empty()) quads = boundary_quads(hexes, &owners);
+    report.faces_inside_after = find_boundary_faces_inside(hexes, quads, owners).faces_inside;
     if (report.faces_inside_after == 0) return report;
     std::vector<Vec3> after = std::move(hexes.nodes);
     hexes.nodes = before;
@@ -631,9 +632,11 @@ void smooth_and_repair_worst(Meshing& m, const NodeConstraints& constraints) {
         optimize_worst_below(m, constraints, std::max(target, lifted.lifted_to), lifted.min_scaled_jacobian_after);
   }
   // Each slide and regions frees hexes the next can raise: again while a round gains.
+  std::vector<std::array<int, 4>> quads;
+  std::vector<int> owners;
   for (int round = 0; round < kCreaseSlideRounds; ++round) {
     const double was = min_now;
-    min_now = slide_worst_on_creases(m, constraints, smooth_options, min_now);
+    min_now = slide_worst_on_creases(m, constraints, smooth_options, min_now, quads, owners);
     if (!(min_now > was + 1e-3)) break;
   }
   RepairWorstHexesOptions repair_options;
