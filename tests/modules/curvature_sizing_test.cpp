@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <map>
+#include <limits>
 #include <random>
 #include <set>
 
@@ -191,6 +193,23 @@ TEST(CurvatureSizing, GradationEqualsItsFixedPointBitForBit) {
     EXPECT_EQ(differ, 0u) << levels << " levels";
     EXPECT_GT(lowered, h.size() / 2);  // the test lowers most sizes, through long chains
   }
+}
+
+TEST(CurvatureSizing, GradationOfSignedSizesEqualsItsFixedPointBitForBit) {
+  // The queue orders sizes by their bits: negative sizes, both zeros and infinities must come
+  // out in the order of their values, or the sizes would differ from the fixed point.
+  const SurfaceMesh mesh = icosphere(1.0, 4);
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  std::vector<double> h(mesh.n_vertices());
+  for (double& x : h) x = uniform(random);
+  h[0] = -0.0, h[1] = 0.0, h[2] = std::numeric_limits<double>::infinity(), h[3] = -3.0;
+  const std::vector<double> expected = gradation_by_sweeps(mesh, h, 0.25);
+  limit_gradation(mesh, h, 0.25);
+  size_t differ = 0;
+  for (size_t v = 0; v < h.size(); ++v) differ += std::memcmp(&h[v], &expected[v], sizeof(double)) != 0;
+  EXPECT_EQ(differ, 0u);
+  EXPECT_LT(h[2], 0.0);  // the infinite size fell below zero through its neighbours
 }
 
 TEST(CurvatureSizing, LargeMeshGetsEveryRadiusAtItsOwnVertex) {
