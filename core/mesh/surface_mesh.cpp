@@ -22,7 +22,6 @@ void fill_openmesh(SurfaceMesh& mesh, const TriSurface& surface) {
     if (!fh.is_valid())
       throw InputError("triangle " + std::to_string(f) + " cannot be added to a manifold mesh");
   }
-  mesh.update_normals();
 }
 
 TriSurface from_openmesh(const SurfaceMesh& mesh) {
