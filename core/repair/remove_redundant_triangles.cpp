@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/repair/remove_redundant_triangles.h>
 
+#include <dthex/mesh/half_edges.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <numeric>
@@ -20,19 +22,7 @@ int find_root(std::vector<int>& parent, int x) {
 }  // namespace
 
 bool is_closed_manifold(const std::vector<std::array<int, 3>>& T, size_t vertex_count) {
-  struct HalfEdge {
-    uint64_t key;
-    int triangle;
-    bool operator<(const HalfEdge& o) const { return key < o.key || (key == o.key && triangle < o.triangle); }
-  };
-  std::vector<HalfEdge> half_edges;
-  half_edges.reserve(T.size() * 3);
-  for (size_t t = 0; t < T.size(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      const int a = T[t][size_t(k)], b = T[t][size_t((k + 1) % 3)];
-      half_edges.push_back({uint64_t(std::min(a, b)) << 32 | uint64_t(std::max(a, b)), int(t)});
-    }
-  std::sort(half_edges.begin(), half_edges.end());
+  const std::vector<HalfEdge> half_edges = sorted_half_edges(T);
   for (size_t k = 0; k < half_edges.size(); k += 2)
     if (k + 1 >= half_edges.size() || half_edges[k + 1].key != half_edges[k].key ||
         (k + 2 < half_edges.size() && half_edges[k + 2].key == half_edges[k].key))
@@ -72,8 +62,8 @@ RemoveRedundantTrianglesReport remove_redundant_triangles(TriSurface& surface,
     for (int v : tri)
       if (v < 0 || v >= nv) return report;
   std::vector<char> removed(T.size(), 0);
-  std::vector<std::pair<std::array<int, 3>, int>> keys;
-  keys.reserve(T.size());
+  std::vector<int> kept;
+  kept.reserve(T.size());
   for (size_t t = 0; t < T.size(); ++t) {
     const auto& tri = T[t];
     if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0]) {
@@ -81,11 +71,9 @@ RemoveRedundantTrianglesReport remove_redundant_triangles(TriSurface& surface,
       ++report.collapsed_removed;
       continue;
     }
-    std::array<int, 3> key = tri;
-    std::sort(key.begin(), key.end());
-    keys.push_back({key, int(t)});
+    kept.push_back(int(t));
   }
-  std::sort(keys.begin(), keys.end());
+  const std::vector<TriangleKey> keys = sorted_triangle_keys(T, kept);
   for (size_t k = 1; k < keys.size(); ++k)
     if (keys[k].first == keys[k - 1].first) {
       removed[size_t(keys[k].second)] = 1;  // a lower id with the same vertices comes first

@@ -234,13 +234,9 @@ SurfaceStats verify_surface(TriSurface& surface, const std::string& name, const 
   }
   // 5. duplicate triangles
   {
-    std::vector<std::pair<Triangle, int>> sorted(static_cast<size_t>(nt));
-    for (int t = 0; t < nt; ++t) {
-      Triangle key = T[size_t(t)];
-      std::sort(key.begin(), key.end());
-      sorted[size_t(t)] = {key, t};
-    }
-    std::sort(sorted.begin(), sorted.end());
+    std::vector<int> all(static_cast<size_t>(nt));
+    for (int t = 0; t < nt; ++t) all[size_t(t)] = t;
+    const std::vector<TriangleKey> sorted = sorted_triangle_keys(T, all);
     int first_a = -1, first_b = -1;
     for (size_t k = 1; k < sorted.size(); ++k)
       if (sorted[k].first == sorted[k - 1].first) {
