@@ -167,6 +167,7 @@ void limit_gradation(const Mesh& mesh, std::vector<double>& h, double beta) {
   for (size_t i = 0; i < n; ++i)
     if (ring_start[i + 1] > ring_start[i]) enqueue(int(i));
   std::vector<char> taken(n, 0);
+  std::vector<int> spread;  // the bucket being spread (its storage kept for the next)
   while (queued > 0) {
     if (bucket[0].empty()) {
       // Spread the first non-empty bucket out from its smallest size, which becomes `last`.
@@ -178,12 +179,12 @@ void limit_gradation(const Mesh& mesh, std::vector<double>& h, double beta) {
         last = any ? std::min(last, key(v)) : key(v);
         any = true;
       }
-      std::vector<int> spread;
       spread.swap(bucket[b]);
       for (int v : spread) {
         if (taken[size_t(v)]) --queued;
         else bucket[bucket_of(key(v))].push_back(v);
       }
+      spread.clear();
       continue;
     }
     const int v = bucket[0].back();
