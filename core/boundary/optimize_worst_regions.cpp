@@ -16,6 +16,7 @@
 #include <cmath>
 #include <limits>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace dthex {
 namespace {
@@ -50,6 +51,7 @@ class WorstRegionOptimizer {
       const TriangleBvh& surface = *options.surface;
       surface_normals_ = unit_triangle_normals(surface.points(), surface.triangles());
       min_normal_cos_ = std::cos(options.max_normal_turn_deg * M_PI / 180.0);
+      flat_cos_ = std::cos(options.flat_turn_deg * M_PI / 180.0);
       if (options.knife_edge_zone > 0 && has_knife_edge(surface.triangles(), surface_normals_))
         knife_zone_ = options.knife_edge_zone * surface.bounds().diagonal().norm();
     }
@@ -60,12 +62,44 @@ class WorstRegionOptimizer {
   OptimizeWorstRegionsReport run() {
     OptimizeWorstRegionsReport report;
     std::vector<double> sj(mesh_.hexes.size());
-    auto measure = [&] {
+    report.min_before = report.min_after = measure(sj);
+    continuation(report, sj);
+    report.min_on_surface = report.min_after;
+    // The boundary nodes where the input curves allowed a little off it: only where the
+    // continuation on it ended for want of a gain (not of steps, seeds or time), and from
+    // there, so the minimum cannot end lower than without.
+    if (options_.surface && options_.surface_slack > 0 && report.seeds_without_gain > 0 &&
+        !report.time_limit_reached) {
+      off_surface_phase_ = true;
+      report.seeds_without_gain = 0;
+      const int on_surface_steps = report.steps;
+      continuation(report, sj);
+      report.off_surface_steps = report.steps - on_surface_steps;
+      for (size_t v : lifted_) {
+        const double offset = std::sqrt(options_.surface->closest_point(mesh_.nodes[v]).distance_sq);
+        if (!(offset > 1e-9 * node_scale(v))) continue;
+        ++report.nodes_off_surface;
+        report.largest_offset = std::max(report.largest_offset, offset);
+      }
+    }
+    return report;
+  }
+
+ private:
+  // What a region's solve moves: its interior nodes; with them its boundary nodes off creases,
+  // sliding on the input; or those also along their normal, within the slack of the input.
+  enum class Move { interior, on_surface, off_surface };
+
+  // The smallest scaled Jacobian of the mesh, each hex's in sj.
+  double measure(std::vector<double>& sj) const {
 #pragma omp parallel for schedule(static) if (sj.size() > 50000)
-      for (long h = 0; h < long(sj.size()); ++h) sj[size_t(h)] = hex_scaled_jacobian(hex_corners(mesh_, size_t(h)));
-      return *std::min_element(sj.begin(), sj.end());
-    };
-    report.min_before = report.min_after = measure();
+    for (long h = 0; h < long(sj.size()); ++h) sj[size_t(h)] = hex_scaled_jacobian(hex_corners(mesh_, size_t(h)));
+    return *std::min_element(sj.begin(), sj.end());
+  }
+
+  // Steps of the continuation (see OptimizeWorstRegionsOptions::steps) from report.min_after;
+  // sj holds each hex's scaled Jacobian, and is kept so.
+  void continuation(OptimizeWorstRegionsReport& report, std::vector<double>& sj) {
     for (int step = 0; step < options_.steps && report.min_after < options_.target; ++step) {
       if (Clock::now() > deadline_) {
         report.time_limit_reached = true;
@@ -86,11 +120,14 @@ class WorstRegionOptimizer {
         const size_t last = std::min(seeds.size(), first + options_.max_seeds);
         const std::vector<size_t> batch(seeds.begin() + long(first), seeds.begin() + long(last));
         // The interior nodes first; where they gain nothing (the worst corners held by the
-        // boundary), the boundary nodes sliding on the input with them.
+        // boundary), the boundary nodes sliding on the input with them, or in the second
+        // phase allowed off it (a slide on it would put back the nodes already off).
         bool gained = false;
-        for (const bool slide : {false, true}) {
-          if (slide && !options_.surface) break;
-          select(batch, slide);
+        for (const Move move : {Move::interior, Move::on_surface, Move::off_surface}) {
+          if (move != Move::interior && !options_.surface) break;
+          if ((move == Move::on_surface && off_surface_phase_) || (move == Move::off_surface && !off_surface_phase_))
+            continue;
+          select(batch, move);
           if (free_.empty()) continue;
           // A region that gains nothing at the usual sharpness may at the sharper one, where
           // the frames just above its minimum, many of them, outweighed the few worst.
@@ -102,13 +139,16 @@ class WorstRegionOptimizer {
           }
           if (gained) {
             moved += free_.size();
+            if (move == Move::off_surface)
+              for (size_t i = 0; i < free_.size(); ++i)
+                if (lifting_[i]) lifted_.insert(free_[i]);
             break;
           }
         }
         if (!gained && first == 0) break;  // the worst hex is in the first batch: it stays the minimum
       }
       const double min_before_step = report.min_after;
-      report.min_after = measure();
+      report.min_after = measure(sj);
       if (!(report.min_after > min_before_step)) {  // the batch around the worst gained nothing
         report.seeds_without_gain = seeds.size();
         report.moved_nodes += moved;
@@ -118,10 +158,8 @@ class WorstRegionOptimizer {
       report.moved_nodes += moved;
       ++report.steps;
     }
-    return report;
   }
 
- private:
   // Rounds of L-BFGS on the selected region, each kept only when it raises the region's
   // minimum; true if one was kept.
   bool solve() {
@@ -149,8 +187,9 @@ class WorstRegionOptimizer {
   }
 
   // The variables at the current positions: an interior node's coordinates, a sliding node's
-  // two tangent offsets (0), each in units of the node's scale. Sets the sliding nodes'
-  // origins and tangent planes.
+  // two tangent offsets (0) and, lifting, its normal offset (0), each in units of the node's
+  // scale. Sets the sliding nodes' origins and, in the off-surface phase, their distances to
+  // the input.
   Eigen::VectorXd start_variables() {
     Eigen::VectorXd z(static_cast<Eigen::Index>(variable_count_));
     for (size_t i = 0; i < free_.size(); ++i) {
@@ -162,22 +201,36 @@ class WorstRegionOptimizer {
       }
       origin_[i] = x;
       z[o] = z[o + 1] = 0;
+      if (lifting_[i]) z[o + 2] = 0;
+      if (!off_surface_phase_) continue;
+      const Vec3 off = x - options_.surface->closest_point(x).point;
+      origin_offset_[i] = off.norm();
+      origin_lift_[i] = off.dot(normal_[i]) / scale_[i];
     }
     return z;
   }
 
-  // Each sliding node onto the input's closest point; one that would land further than it slid
-  // (on another sheet) or on a part of the surface facing elsewhere (across a crease) goes
-  // back to where its slide started.
+  // Each sliding node onto the input's closest point, or a lifting one within the slack of it;
+  // one whose closest point is further than it moved plus where it started (on another sheet)
+  // or on a part of the surface facing elsewhere (across a crease) goes back to where its
+  // slide started.
   void put_back_on_surface() {
     if (!options_.surface) return;
     for (size_t i = 0; i < free_.size(); ++i) {
       if (!sliding_[i]) continue;
       Vec3& x = mesh_.nodes[free_[i]];
       const TriangleBvh::ClosestPoint cp = options_.surface->closest_point(x);
-      const bool lands = cp.triangle >= 0 && std::sqrt(cp.distance_sq) <= (x - origin_[i]).norm() + 1e-12 * scale_[i] &&
+      const double reach = (x - origin_[i]).norm() + origin_offset_[i] + 1e-12 * scale_[i];
+      const bool lands = cp.triangle >= 0 && std::sqrt(cp.distance_sq) <= reach &&
                          surface_normals_[size_t(cp.triangle)].dot(normal_[i]) >= min_normal_cos_;
-      x = lands ? cp.point : origin_[i];
+      if (!lands) {
+        x = origin_[i];
+        continue;
+      }
+      const Vec3 offset = x - cp.point;
+      const double limit = lifting_[i] ? lift_limit_[i] * scale_[i] : 0.0;
+      const double length = offset.norm();
+      x = length <= limit ? x : Vec3(cp.point + (limit / length) * offset);
     }
   }
 
@@ -196,9 +249,10 @@ class WorstRegionOptimizer {
   }
 
   // The region: hexes within region_rings rings of the seeds; its free nodes: nodes all of
-  // whose hexes are in it, interior or (with `slide`) sliding on the boundary; the active
-  // hexes: those with a free node.
-  void select(const std::vector<size_t>& seeds, bool slide) {
+  // whose hexes are in it, interior or (moving more than the interior) sliding on the
+  // boundary, lifting too for Move::off_surface; the active hexes: those with a free node.
+  void select(const std::vector<size_t>& seeds, Move move) {
+    const bool slide = move != Move::interior;
     // The region's hexes, ring by ring; marks on the mesh's hexes and nodes, cleared after, so
     // a selection costs what its region holds, not what the mesh does.
     std::vector<size_t> region = seeds, frontier = seeds, seen_nodes;
@@ -222,6 +276,7 @@ class WorstRegionOptimizer {
     std::sort(candidates.begin(), candidates.end());
     // Free: interior nodes all of whose hexes are in the region, and boundary ones that may slide.
     std::unordered_map<size_t, Vec3> slide_normal;
+    std::unordered_set<size_t> lifts;  // sliding nodes that may leave the input: on a curved part of it
     free_.clear();
     active_.clear();
     for (size_t v : candidates) {
@@ -231,8 +286,12 @@ class WorstRegionOptimizer {
       Vec3 normal;
       if (!on_boundary_[v])
         free_.push_back(v);
-      else if (slide && may_slide(v, node_scale(v), normal))
+      else if (slide && may_slide(v, node_scale(v), normal)) {
         free_.push_back(v), slide_normal[v] = normal;
+        if (move == Move::off_surface && surface_curves_near(*options_.surface, surface_normals_, mesh_.nodes[v], normal,
+                                                             node_scale(v), flat_cos_, min_normal_cos_))
+          lifts.insert(v);
+      }
     }
     for (size_t h : region) hex_mark_[h] = 0;
     for (size_t v : seen_nodes) node_mark_[v] = 0;
@@ -262,6 +321,10 @@ class WorstRegionOptimizer {
     // an interior node's three coordinates, a sliding node's two offsets in its tangent plane.
     scale_.assign(free_.size(), 0);
     sliding_.assign(free_.size(), 0);
+    lifting_.assign(free_.size(), 0);
+    origin_offset_.assign(free_.size(), 0);
+    origin_lift_.assign(free_.size(), 0);
+    lift_limit_.assign(free_.size(), 0);
     normal_.assign(free_.size(), Vec3::Zero());
     tangent_.assign(free_.size(), {Vec3::Zero(), Vec3::Zero()});
     origin_.assign(free_.size(), Vec3::Zero());
@@ -277,9 +340,13 @@ class WorstRegionOptimizer {
       }
       const Vec3& normal = found->second;
       sliding_[i] = 1;
+      lifting_[i] = lifts.count(free_[i]) > 0;
+      if (lifting_[i])
+        lift_limit_[i] = options_.max_surface_offset > 0 ? std::min(options_.surface_slack, options_.max_surface_offset / scale_[i])
+                                                         : options_.surface_slack;
       normal_[i] = normal;
       tangent_[i] = tangent_basis(normal);
-      variable_count_ += 2;
+      variable_count_ += lifting_[i] ? 3 : 2;
     }
   }
 
@@ -303,8 +370,13 @@ class WorstRegionOptimizer {
   void place(const Eigen::VectorXd& z) {
     for (size_t i = 0; i < free_.size(); ++i) {
       const Eigen::Index o = Eigen::Index(offset_[i]);
-      mesh_.nodes[free_[i]] = sliding_[i] ? Vec3(origin_[i] + scale_[i] * (z[o] * tangent_[i][0] + z[o + 1] * tangent_[i][1]))
-                                          : Vec3(scale_[i] * Vec3(z[o], z[o + 1], z[o + 2]));
+      if (!sliding_[i]) {
+        mesh_.nodes[free_[i]] = scale_[i] * Vec3(z[o], z[o + 1], z[o + 2]);
+        continue;
+      }
+      Vec3 step = z[o] * tangent_[i][0] + z[o + 1] * tangent_[i][1];
+      if (lifting_[i]) step += z[o + 2] * normal_[i];
+      mesh_.nodes[free_[i]] = origin_[i] + scale_[i] * step;
     }
   }
   double region_min() const {
@@ -394,8 +466,23 @@ class WorstRegionOptimizer {
       if (sliding_[size_t(i)]) {
         gradient[o] = g.dot(tangent_[size_t(i)][0]) * scale_[size_t(i)];
         gradient[o + 1] = g.dot(tangent_[size_t(i)][1]) * scale_[size_t(i)];
+        if (lifting_[size_t(i)]) gradient[o + 2] = g.dot(normal_[size_t(i)]) * scale_[size_t(i)];
       } else {
         for (int c = 0; c < 3; ++c) gradient[o + c] = g[c] * scale_[size_t(i)];
+      }
+    }
+    // A lifting node's offset from the input held within its limit: exp(-sharpness (1 - (t /
+    // limit)^2)) of its offset t along its normal (in units of its scale), as steep beyond the
+    // limit as the frames are below the floor.
+    if (off_surface_phase_) {
+      for (size_t i = 0; i < free_.size(); ++i) {
+        if (!lifting_[i]) continue;
+        const double slack = lift_limit_[i];
+        const Eigen::Index o = Eigen::Index(offset_[i]);
+        const double t = origin_lift_[i] + z[o + 2];
+        const double e = std::exp(-k * (1 - (t / slack) * (t / slack)));
+        total += e;
+        gradient[o + 2] += e * k * 2 * t / (slack * slack);
       }
     }
     return total;
@@ -409,17 +496,23 @@ class WorstRegionOptimizer {
   std::vector<size_t> free_, active_;
   std::vector<double> scale_;
   std::vector<char> sliding_;                     //!< per free node: a boundary node sliding on the input
+  std::vector<char> lifting_;                     //!< per free node: sliding, and along its normal too
+  std::vector<double> origin_offset_;             //!< per free node: its slide's start's distance to the input
+  std::vector<double> origin_lift_;               //!< per lifting node: that start's offset along its normal / scale
+  std::vector<double> lift_limit_;                //!< per lifting node: how far off the input it may end / scale
   std::vector<Vec3> normal_, origin_;             //!< per free node: its surface normal, where its slide starts
   std::vector<std::array<Vec3, 2>> tangent_;      //!< per free node: its tangent plane's axes
   std::vector<size_t> offset_;                    //!< per free node: its first variable
   size_t variable_count_ = 0;
   std::vector<Vec3> surface_normals_;             //!< of options.surface's triangles
-  double min_normal_cos_ = 0, knife_zone_ = 0;
+  double min_normal_cos_ = 0, flat_cos_ = 1, knife_zone_ = 0;
   std::vector<std::vector<std::pair<int, int>>> slots_of_;  //!< per free node: (active hex slot, corner)
   std::vector<Vec3> hex_gradient_;                          //!< 8 per active hex
   std::vector<double> hex_energy_;                          //!< per active hex
   std::unordered_map<size_t, std::array<double, 12>> first_lengths_;  //!< per hex ever active
   std::vector<std::array<double, 12>> start_lengths_;                 //!< per active hex
+  bool off_surface_phase_ = false;  //!< the continuation with surface_slack under way
+  std::unordered_set<size_t> lifted_;  //!< nodes a kept off-surface solve moved
   double floor_ = 0;
   double sharpness_ = 0;  //!< of the solve under way: options.sharpness or its fallback
   Clock::time_point deadline_;

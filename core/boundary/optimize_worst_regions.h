@@ -12,7 +12,10 @@
 // continuation). The energy also holds every edge near its length: the scaled Jacobian alone
 // would let the solve draw two nodes together. Where the interior nodes gain nothing (the
 // worst corners held by the boundary), the region's boundary nodes off creases slide on the
-// input with them.
+// input with them. Where that too ends (a boundary node's corner narrow because the input curves
+// under it), the continuation may go on with those nodes, where the input curves, allowed a
+// little off it (surface_slack): after the run that keeps them on it, so the result is never
+// lower than it.
 #pragma once
 
 #include <dthex/mesh/node_constraints.h>
@@ -75,6 +78,19 @@ struct OptimizeWorstRegionsOptions {
   //! Boundary nodes within this fraction of the surface's bounding-box diagonal of a knife
   //! edge stay: the zone where the smoothers let crease nodes off it (their knife_edge_slide).
   double knife_edge_zone = 0.005;
+  //! Where the continuation ends on the input for want of a gain, a second one (`steps` more at
+  //! most) lets the sliding nodes where the input curves also move along their normal, to end
+  //! within this fraction of their mean hex edge of it (0: no second one; planes, creases,
+  //! corners and knife edges stay on it). Starting from the first one's result, the minimum
+  //! ends no lower; the price is a distance to the input (the report's largest_offset) and time.
+  double surface_slack = 0;
+  //! A cap on that distance in input units (0: none): a fraction of a hex edge is far from the
+  //! input where the hexes are large, and the distance adds to the mesh's Hausdorff distance.
+  double max_surface_offset = 0;
+  //! A node leaves the input only where the input within its mean hex edge, on its side of any
+  //! crease, turns more than this (degrees) from its normal: off a plane it would only bend a
+  //! face that a solver's user takes as flat (a box's end, fixed or loaded as a whole).
+  double flat_turn_deg = 2;
   //! Optional: the mesh's node_constraints(); its on_boundary is used (found here without it).
   const NodeConstraints* constraints = nullptr;
   double time_limit_seconds = 60.0;
@@ -89,13 +105,17 @@ struct OptimizeWorstRegionsReport {
   size_t seeds_without_gain = 0;
   size_t moved_nodes = 0;  //!< nodes moved, over the steps (a node counted once per step)
   double min_before = 0, min_after = 0;  //!< smallest scaled Jacobian of the mesh
+  double min_on_surface = 0;  //!< the minimum when the on-surface continuation ended
+  int off_surface_steps = 0;  //!< of `steps`, those with the boundary allowed off the input
+  size_t nodes_off_surface = 0;  //!< boundary nodes left off the input by surface_slack
+  double largest_offset = 0;     //!< their largest distance to it (input units)
   bool time_limit_reached = false;
 };
 
 //! Moves nodes of `mesh` near its worst hexes to raise its smallest scaled Jacobian towards
 //! options.target: interior nodes, and boundary nodes off creases sliding on options.surface
-//! where that is given. The mesh's minimum never falls and no hex is inverted
-//! that was not before.
+//! where that is given (and within options.surface_slack of it, where that is > 0). The mesh's
+//! minimum never falls and no hex is inverted that was not before.
 OptimizeWorstRegionsReport optimize_worst_regions(HexMesh& mesh, const OptimizeWorstRegionsOptions& options = {});
 
 }  // namespace dthex

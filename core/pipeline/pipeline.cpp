@@ -556,6 +556,8 @@ double optimize_worst_below(Meshing& m, const NodeConstraints& constraints, doub
            region_options.constraints = &constraints;
            region_options.surface = &m.input_bvh;
            region_options.knife_edge_zone = m.options.knife_edge_slide;
+           region_options.surface_slack = m.options.boundary_slack;
+           region_options.max_surface_offset = m.options.boundary_slack_cap * m.input_bvh.bounds().diagonal().norm();
            region_options.time_limit_seconds = m.options.time_limit_seconds;
            return optimize_worst_regions(m.result.hexes, region_options);
          })

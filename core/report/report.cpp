@@ -190,6 +190,10 @@ std::string text(const OptimizeWorstRegionsReport& r) {
   if (r.seeds_without_gain)
     out << (r.steps ? ", then" : ":") << " no gain from the nodes around "
         << count_text("worst hexes", r.seeds_without_gain);
+  if (r.off_surface_steps > 0)
+    out << "; " << count_text("steps", size_t(r.off_surface_steps)) << " from " << r.min_on_surface
+        << " with the boundary off the input (" << count_text("nodes", r.nodes_off_surface) << ", at most "
+        << r.largest_offset << " from it)";
   if (r.time_limit_reached) out << ", time limit reached";
   return out.str();
 }
@@ -405,6 +409,10 @@ json fields(const OptimizeWorstRegionsReport& r) {
           {"moved_nodes", r.moved_nodes},
           {"min_before", r.min_before},
           {"min_after", r.min_after},
+          {"min_on_surface", r.min_on_surface},
+          {"off_surface_steps", r.off_surface_steps},
+          {"nodes_off_surface", r.nodes_off_surface},
+          {"largest_offset", r.largest_offset},
           {"too_many_seeds", r.too_many_seeds},
           {"time_limit_reached", r.time_limit_reached}};
 }
@@ -689,6 +697,7 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
                   {"project", o.project},
                   {"strict", o.strict},
                   {"knife_edge_slide", o.knife_edge_slide},
+                  {"boundary_slack", o.boundary_slack},
                   {"min_dihedral", o.min_dihedral_deg},
                   {"nested", o.nested == PipelineOptions::Nested::material ? "material" : "cavity"},
                   {"remesh", o.remesh == PipelineOptions::Remesh::always  ? "on"

@@ -251,19 +251,43 @@ std::vector<Vec3> unit_triangle_normals(const std::vector<Vec3>& points, const s
   return normals;
 }
 
-bool on_surface_crease(const TriangleBvh& surface, const std::vector<Vec3>& normals, const Vec3& x, const Vec3& normal,
-                       double radius, double min_cos, bool convex_only) {
+namespace {
+
+// Whether a triangle of `surface` with a non-zero normal that `counts` (given the triangle)
+// lies within `radius` of x.
+template <class Counts>
+bool any_triangle_within(const TriangleBvh& surface, const std::vector<Vec3>& normals, const Vec3& x, double radius,
+                         const Counts& counts) {
   const Eigen::AlignedBox3d box(x - Vec3::Constant(radius), x + Vec3::Constant(radius));
-  bool crease = false;
+  bool found = false;
   const auto& p = surface.points();
   surface.for_each_in_box(box, [&](int t) {
-    if (crease || normals[size_t(t)].squaredNorm() == 0 || normals[size_t(t)].dot(normal) >= min_cos) return;
+    if (found || normals[size_t(t)].squaredNorm() == 0 || !counts(t)) return;
     const auto& f = surface.triangles()[size_t(t)];
-    if (convex_only && ((p[size_t(f[0])] + p[size_t(f[1])] + p[size_t(f[2])]) / 3 - x).dot(normal) > 0) return;
     const Vec3 c = closest_point_on_triangle(x, p[size_t(f[0])], p[size_t(f[1])], p[size_t(f[2])]);
-    if ((c - x).squaredNorm() <= radius * radius) crease = true;
+    if ((c - x).squaredNorm() <= radius * radius) found = true;
   });
-  return crease;
+  return found;
+}
+
+}  // namespace
+
+bool on_surface_crease(const TriangleBvh& surface, const std::vector<Vec3>& normals, const Vec3& x, const Vec3& normal,
+                       double radius, double min_cos, bool convex_only) {
+  const auto& p = surface.points();
+  return any_triangle_within(surface, normals, x, radius, [&](int t) {
+    if (normals[size_t(t)].dot(normal) >= min_cos) return false;
+    const auto& f = surface.triangles()[size_t(t)];
+    return !(convex_only && ((p[size_t(f[0])] + p[size_t(f[1])] + p[size_t(f[2])]) / 3 - x).dot(normal) > 0);
+  });
+}
+
+bool surface_curves_near(const TriangleBvh& surface, const std::vector<Vec3>& normals, const Vec3& x, const Vec3& normal,
+                         double radius, double flat_cos, double face_cos) {
+  return any_triangle_within(surface, normals, x, radius, [&](int t) {
+    const double turn = normals[size_t(t)].dot(normal);
+    return turn < flat_cos && turn >= face_cos;
+  });
 }
 
 bool has_knife_edge(const std::vector<std::array<int, 3>>& triangles, const std::vector<Vec3>& normals,

@@ -87,6 +87,14 @@ std::vector<Vec3> unit_triangle_normals(const std::vector<Vec3>& points, const s
 bool on_surface_crease(const TriangleBvh& surface, const std::vector<Vec3>& normals, const Vec3& x, const Vec3& normal,
                        double radius, double min_cos, bool convex_only);
 
+//! True if the triangles of `surface` within `radius` of x on its own face (those whose normal
+//! turns less than acos(face_cos) from `normal`, so not across a crease) turn more than
+//! acos(flat_cos) from it: x is on a curved part of the surface, not on a plane. A node may
+//! leave a curved surface by a little for a sounder hex (optimize_worst_regions); off a plane
+//! it would only bend a face a solver takes as flat.
+bool surface_curves_near(const TriangleBvh& surface, const std::vector<Vec3>& normals, const Vec3& x, const Vec3& normal,
+                         double radius, double flat_cos, double face_cos);
+
 //! What the triangles of `surface` within `radius` of x make there, their normals grouped
 //! by `min_cos`: one face (none), two faces meeting on a line, convex or concave as seen from
 //! `normal` (the line's unit direction into `direction`), or three and more (a corner).

@@ -148,3 +148,57 @@ TEST(OptimizeWorstRegions, SlidesBoundaryNodesOnTheSurfaceWhereNoInteriorNodeCan
     if (on_edge) EXPECT_EQ(x, s) << "node " << v << " on an edge or corner of the slab moved";
   }
 }
+
+// A slab one hex thick whose top has a smooth dimple under the node (1, 1, 1): the four hexes
+// there are flattened at that corner, and no node can help on the input (none is inside, the
+// dimple's bottom is where a slide would stay). With surface_slack the node rises off the
+// input, by no more than the slack, and the worst hex rises with it; edges and corners stay,
+// and the minimum is the same or higher than without, as the stage promises.
+TEST(OptimizeWorstRegions, LetsBoundaryNodesOffTheInputWithinTheSlackWhereOnItNothingGains) {
+  const Vec3 lo(0, 0, 0), hi(3, 3, 1);
+  const double depth = 0.85, width = 0.5;
+  auto dimpled = [&](const Vec3& p) {
+    if (p.z() != hi.z()) return p;
+    const double r2 = (p.x() - 1) * (p.x() - 1) + (p.y() - 1) * (p.y() - 1);
+    return Vec3(p.x(), p.y(), hi.z() - depth * std::exp(-r2 / (width * width)));
+  };
+  TriSurface slab = box_surface(lo, hi, {30, 30, 10});
+  for (Vec3& p : slab.points) p = dimpled(p);
+  HexMesh start = hex_block(lo, hi, 3, 3, 1);
+  for (Vec3& p : start.nodes) p = dimpled(p);
+  const TriangleBvh surface(slab);
+  const double min_before = measure_hex_quality(start).scaled_jacobian_stats.min;
+  ASSERT_LT(min_before, 0.8);
+  OptimizeWorstRegionsOptions options;
+  options.target = 0.95;
+  options.steps = 100;  // till the minimum on the input gains no more
+  options.surface = &surface;
+  HexMesh on_input = start;
+  const OptimizeWorstRegionsReport without = optimize_worst_regions(on_input, options);
+  EXPECT_GT(without.seeds_without_gain, 0u);
+  EXPECT_EQ(without.off_surface_steps, 0);
+  EXPECT_EQ(without.nodes_off_surface, 0u);
+  options.surface_slack = 0.2;
+  HexMesh off_input = start;
+  const OptimizeWorstRegionsReport with = optimize_worst_regions(off_input, options);
+  EXPECT_DOUBLE_EQ(with.min_on_surface, without.min_after);
+  EXPECT_GE(with.off_surface_steps, 1);
+  EXPECT_GE(with.nodes_off_surface, 1u);
+  const double min_without = measure_hex_quality(on_input).scaled_jacobian_stats.min;
+  const HexQuality q = measure_hex_quality(off_input);
+  EXPECT_DOUBLE_EQ(with.min_after, q.scaled_jacobian_stats.min);
+  EXPECT_GT(q.scaled_jacobian_stats.min, min_without + 0.05);
+  EXPECT_EQ(q.inverted, 0u);
+  double largest = 0;
+  for (size_t v = 0; v < off_input.nodes.size(); ++v) {
+    const Vec3& x = off_input.nodes[v];
+    const double offset = std::sqrt(surface.closest_point(x).distance_sq);
+    largest = std::max(largest, offset);
+    // The slack is a fraction of the node's mean distance to its hexes' nodes, under 2 here.
+    EXPECT_LE(offset, options.surface_slack * 2) << "node " << v << " left the input by more than the slack";
+    const Vec3& s = start.nodes[v];
+    const bool on_edge = (s.x() == 0 || s.x() == 3) + (s.y() == 0 || s.y() == 3) + (s.z() == 0 || s.z() > 0.5) >= 2;
+    if (on_edge) EXPECT_EQ(x, s) << "node " << v << " on an edge or corner of the slab moved";
+  }
+  EXPECT_NEAR(with.largest_offset, largest, 1e-12);
+}
