@@ -186,14 +186,14 @@ std::string text(const OptimizeWorstRegionsReport& r) {
   if (r.steps > 0)
     out << " in " << count_text("steps", size_t(r.steps)) << " (" << count_text("worst hexes", r.seeds) << ", "
         << count_text("nodes", r.moved_nodes) << " around them moved together)";
+  if (r.off_surface_steps > 0)
+    out << ", the last " << r.off_surface_steps << " from " << r.min_on_surface << " with "
+        << count_text("boundary nodes", r.nodes_off_surface) << " let off the input (at most " << r.largest_offset
+        << ")";
   if (r.too_many_seeds) out << ", then too many hexes near the minimum";
   if (r.seeds_without_gain)
     out << (r.steps ? ", then" : ":") << " no gain from the nodes around "
         << count_text("worst hexes", r.seeds_without_gain);
-  if (r.off_surface_steps > 0)
-    out << "; " << count_text("steps", size_t(r.off_surface_steps)) << " from " << r.min_on_surface
-        << " with the boundary off the input (" << count_text("nodes", r.nodes_off_surface) << ", at most "
-        << r.largest_offset << " from it)";
   if (r.time_limit_reached) out << ", time limit reached";
   return out.str();
 }

@@ -363,4 +363,12 @@ TEST(PipelineQuality, BoundarySlackLiftsSpotsWorstHexAndKeepsTheBoundaryNearTheI
   EXPECT_LT(held_largest, 1e-9 * diagonal);
   EXPECT_GT(largest, 1e-6 * diagonal);  // some node is off the input: the slack was used
   EXPECT_LE(largest, defaults.boundary_slack_cap * diagonal * (1 + 1e-9));
+  // The regions' reports say so: their second continuation ran, within the cap.
+  int off_surface_steps = 0;
+  for (const StageRecord& stage : slack.stages)
+    if (const auto* regions = std::get_if<OptimizeWorstRegionsReport>(&stage.report)) {
+      off_surface_steps += regions->off_surface_steps;
+      EXPECT_LE(regions->largest_offset, defaults.boundary_slack_cap * diagonal * (1 + 1e-9));
+    }
+  EXPECT_GT(off_surface_steps, 0);
 }
