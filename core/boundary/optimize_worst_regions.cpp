@@ -288,8 +288,9 @@ class WorstRegionOptimizer {
         free_.push_back(v);
       else if (slide && may_slide(v, node_scale(v), normal)) {
         free_.push_back(v), slide_normal[v] = normal;
-        if (move == Move::off_surface && surface_curves_near(*options_.surface, surface_normals_, mesh_.nodes[v], normal,
-                                                             node_scale(v), flat_cos_, min_normal_cos_))
+        if (move == Move::off_surface && !on_interface(v) &&
+            surface_curves_near(*options_.surface, surface_normals_, mesh_.nodes[v], normal, node_scale(v), flat_cos_,
+                                min_normal_cos_))
           lifts.insert(v);
       }
     }
@@ -348,6 +349,15 @@ class WorstRegionOptimizer {
       tangent_[i] = tangent_basis(normal);
       variable_count_ += lifting_[i] ? 3 : 2;
     }
+  }
+
+  // Whether node v has hexes of two materials (HexMesh::region): on an interface, which stays
+  // on the input where the materials meet.
+  bool on_interface(size_t v) const {
+    if (mesh_.region.empty()) return false;
+    for (int g : node_hexes_[v])
+      if (mesh_.region[size_t(g)] != mesh_.region[size_t(node_hexes_[v][0])]) return true;
+    return false;
   }
 
   // The mean distance from node v to the nodes of its hexes (1 for a node without hexes).

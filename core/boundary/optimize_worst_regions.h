@@ -81,7 +81,7 @@ struct OptimizeWorstRegionsOptions {
   //! Where the continuation ends on the input for want of a gain, a second one (`steps` more at
   //! most) lets the sliding nodes where the input curves also move along their normal, to end
   //! within this fraction of their mean hex edge of it (0: no second one; planes, creases,
-  //! corners and knife edges stay on it). Starting from the first one's result, the minimum
+  //! corners, knife edges and nodes two materials share stay on it). Starting from the first one's result, the minimum
   //! ends no lower; the price is a distance to the input (the report's largest_offset) and time.
   double surface_slack = 0;
   //! A cap on that distance in input units (0: none): a fraction of a hex edge is far from the

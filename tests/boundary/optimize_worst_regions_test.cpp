@@ -149,12 +149,15 @@ TEST(OptimizeWorstRegions, SlidesBoundaryNodesOnTheSurfaceWhereNoInteriorNodeCan
   }
 }
 
-// A slab one hex thick whose top has a smooth dimple under the node (1, 1, 1): the four hexes
-// there are flattened at that corner, and no node can help on the input (none is inside, the
-// dimple's bottom is where a slide would stay). With surface_slack the node rises off the
-// input, by no more than the slack, and the worst hex rises with it; edges and corners stay,
-// and the minimum is the same or higher than without, as the stage promises.
-TEST(OptimizeWorstRegions, LetsBoundaryNodesOffTheInputWithinTheSlackWhereOnItNothingGains) {
+namespace {
+
+// A slab [0, 3] x [0, 3] x [0, 1] whose top has a smooth dimple under the point (1, 1), fine
+// triangles, and the block of 3 x 3 x 1 hexes with its top nodes on it.
+struct DimpledSlab {
+  TriSurface surface;
+  HexMesh hexes;
+};
+DimpledSlab dimpled_slab() {
   const Vec3 lo(0, 0, 0), hi(3, 3, 1);
   const double depth = 0.85, width = 0.5;
   auto dimpled = [&](const Vec3& p) {
@@ -162,11 +165,23 @@ TEST(OptimizeWorstRegions, LetsBoundaryNodesOffTheInputWithinTheSlackWhereOnItNo
     const double r2 = (p.x() - 1) * (p.x() - 1) + (p.y() - 1) * (p.y() - 1);
     return Vec3(p.x(), p.y(), hi.z() - depth * std::exp(-r2 / (width * width)));
   };
-  TriSurface slab = box_surface(lo, hi, {30, 30, 10});
-  for (Vec3& p : slab.points) p = dimpled(p);
-  HexMesh start = hex_block(lo, hi, 3, 3, 1);
-  for (Vec3& p : start.nodes) p = dimpled(p);
-  const TriangleBvh surface(slab);
+  DimpledSlab slab{box_surface(lo, hi, {30, 30, 10}), hex_block(lo, hi, 3, 3, 1)};
+  for (Vec3& p : slab.surface.points) p = dimpled(p);
+  for (Vec3& p : slab.hexes.nodes) p = dimpled(p);
+  return slab;
+}
+
+}  // namespace
+
+// The dimpled slab: the four hexes around the node (1, 1, 1) are flattened at that corner,
+// and no node can help on the input (none is inside, the dimple's bottom is where a slide
+// would stay). With surface_slack the node rises off the input, by no more than the slack, and
+// the worst hex rises with it; edges and corners stay, and the minimum is the same or higher
+// than without, as the stage promises.
+TEST(OptimizeWorstRegions, LetsBoundaryNodesOffTheInputWithinTheSlackWhereOnItNothingGains) {
+  const DimpledSlab slab = dimpled_slab();
+  const HexMesh& start = slab.hexes;
+  const TriangleBvh surface(slab.surface);
   const double min_before = measure_hex_quality(start).scaled_jacobian_stats.min;
   ASSERT_LT(min_before, 0.8);
   OptimizeWorstRegionsOptions options;
@@ -201,4 +216,30 @@ TEST(OptimizeWorstRegions, LetsBoundaryNodesOffTheInputWithinTheSlackWhereOnItNo
     if (on_edge) EXPECT_EQ(x, s) << "node " << v << " on an edge or corner of the slab moved";
   }
   EXPECT_NEAR(with.largest_offset, largest, 1e-12);
+}
+
+// Where two materials meet (HexMesh::region), the nodes they share stay on the input: the
+// dimpled slab with its hexes at x > 1 a second material keeps the dimple's node (1, 1, 1),
+// which then has hexes of both, where it is, while in one material the slack lifts it.
+TEST(OptimizeWorstRegions, KeepsTheNodesTwoMaterialsShareOnTheInput) {
+  const DimpledSlab slab = dimpled_slab();
+  const TriangleBvh surface(slab.surface);
+  const size_t dimple = size_t((1 * 4 + 1) * 4 + 1);  // the top's node (1, 1, 1)
+  ASSERT_EQ(slab.hexes.nodes[dimple].x(), 1.0);
+  ASSERT_EQ(slab.hexes.nodes[dimple].y(), 1.0);
+  OptimizeWorstRegionsOptions options;
+  options.target = 0.95;
+  options.steps = 100;
+  options.surface = &surface;
+  options.surface_slack = 0.2;
+  HexMesh one = slab.hexes;
+  optimize_worst_regions(one, options);
+  EXPECT_GT(std::sqrt(surface.closest_point(one.nodes[dimple]).distance_sq), 0.01);
+  HexMesh two = slab.hexes;
+  two.region.assign(two.hexes.size(), 0);
+  for (size_t h = 0; h < two.hexes.size(); ++h)
+    if (two.nodes[size_t(two.hexes[h][6])].x() > 1.5) two.region[h] = 1;  // the hexes at x > 1
+  optimize_worst_regions(two, options);
+  EXPECT_LT(std::sqrt(surface.closest_point(two.nodes[dimple]).distance_sq), 1e-12);
+  EXPECT_EQ(measure_hex_quality(two).inverted, 0u);
 }
