@@ -283,16 +283,19 @@ class WorstRegionOptimizer {
       bool inside = true;
       for (int g : node_hexes_[v]) inside = inside && hex_mark_[size_t(g)];
       if (!inside) continue;
-      Vec3 normal;
-      if (!on_boundary_[v])
+      if (!on_boundary_[v]) {
         free_.push_back(v);
-      else if (slide && may_slide(v, node_scale(v), normal)) {
-        free_.push_back(v), slide_normal[v] = normal;
-        if (move == Move::off_surface && !on_interface(v) &&
-            surface_curves_near(*options_.surface, surface_normals_, mesh_.nodes[v], normal, node_scale(v), flat_cos_,
-                                min_normal_cos_))
-          lifts.insert(v);
+        continue;
       }
+      if (!slide) continue;
+      Vec3 normal;
+      const double scale = node_scale(v);
+      if (!may_slide(v, scale, normal)) continue;
+      free_.push_back(v), slide_normal[v] = normal;
+      if (move == Move::off_surface && !on_interface(v) &&
+          surface_curves_near(*options_.surface, surface_normals_, mesh_.nodes[v], normal, scale, flat_cos_,
+                              min_normal_cos_))
+        lifts.insert(v);
     }
     for (size_t h : region) hex_mark_[h] = 0;
     for (size_t v : seen_nodes) node_mark_[v] = 0;
