@@ -328,6 +328,9 @@ int main(int argc, char** argv) {
                "classic THex of the input (tet-mesh, 4 hexes per tet): no coarsening, dicing or projection; the baseline");
   app.add_flag("--no-project", [&](std::int64_t) { cl.pipeline.project = false; },
                "keep the coarse geometry: no projection onto the input surface, no untangling");
+  app.add_flag("--no-finer-retry", [&](std::int64_t) { cl.pipeline.finer_retry = false; },
+               "keep an unsound mesh (an inverted hex, or the boundary folded into the mesh) as it is; by default it\n"
+               "is meshed again at 0.7 x eps, up to twice, and the better mesh kept (not with --target-nodes)");
   app.add_flag("--strict", cl.pipeline.strict, "exit 3 and write nothing if any inverted hex remains (at a corner or a 2x2x2 Gauss point) or the\nboundary folds into the mesh");
   app.add_flag("--global-smoothing", cl.pipeline.global_smoothing,
                "also smooth the coarse surface globally (area-weighted centroid pull), as the paper compares");

@@ -38,6 +38,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <iomanip>
 #include <memory>
 #include <numeric>
 #include <optional>
@@ -823,51 +824,65 @@ bool better_mesh(const PipelineResult& a, const PipelineResult& b) {
 MeshTryReport try_report(const PipelineResult& r) {
   MeshTryReport t;
   t.thickness_ratio = r.thickness_ratio_used;
+  t.eps = r.eps;
   t.inverted = r.quality.inverted;
   t.min_scaled_jacobian = r.quality.scaled_jacobian_stats.min;
   t.conforming = r.conforming;
   return t;
 }
 
+// The seconds of a mesh's own stages, after the first `shared_stages` (reading, verifying,
+// remeshing) that every try of an input shares.
+double meshing_seconds(const PipelineResult& r, size_t shared_stages) {
+  double sum = 0;
+  for (size_t i = shared_stages; i < r.stages.size(); ++i) sum += r.stages[i].seconds;
+  return sum;
+}
+
+// The verified input of `result` meshed once more with `options`, into `again` (which starts
+// with the first `shared_stages` stages of `result`, the ones every try shares). A failure
+// (TetGen refusing the surface, memory) is returned in the try's report, not thrown: it must
+// not cost the mesh already made.
+MeshTryReport mesh_again(const PipelineResult& result, PipelineResult& again, size_t shared_stages,
+                         const TriangleBvh& input_bvh, const TriangleBvh& coarsening_bvh,
+                         const PipelineOptions& options, Progress& progress) {
+  again.input_path = result.input_path;
+  again.input = result.input;
+  again.input_summary = result.input_summary;
+  again.remeshed = result.remeshed;
+  again.stages.assign(result.stages.begin(), result.stages.begin() + long(shared_stages));
+  MeshTryReport report;
+  report.thickness_ratio = options.thickness_ratio;
+  report.eps = options.eps;
+  try {
+    mesh_verified_input(again, input_bvh, coarsening_bvh, options, progress);
+    return try_report(again);
+  } catch (const MeshingError& e) {
+    report.failed = true;
+    report.failure = e.what();
+  } catch (const std::bad_alloc&) {
+    report.failed = true;
+    report.failure = "out of memory";
+  }
+  return report;
+}
+
 // Thin walls sized by curvature alone are the commonest cause of poor hexes: `result`, meshed
 // so, is meshed again sized by the wall thickness (--thickness-ratio 1) and the better of the
 // two kept (better_mesh), with the other as one stage line and result.thickness_retry saying
 // what was done. The first `shared_stages` stages (reading, verifying, remeshing) are shared.
-void retry_sized_by_thickness(PipelineResult& result, size_t shared_stages, const TriangleBvh& input_bvh,
-                              const TriangleBvh& coarsening_bvh, const PipelineOptions& options, Progress& progress) {
-  PipelineResult retry;
-  retry.input_path = result.input_path;
-  retry.input = result.input;
-  retry.input_summary = result.input_summary;
-  retry.remeshed = result.remeshed;
-  retry.stages.assign(result.stages.begin(), result.stages.begin() + long(shared_stages));
-  PipelineOptions thickness_options = options;
-  thickness_options.thickness_ratio = 1;
+// Returns whether the thickness-sized mesh was kept.
+bool retry_sized_by_thickness(PipelineResult& result, size_t shared_stages, const TriangleBvh& input_bvh,
+                              const TriangleBvh& coarsening_bvh, const PipelineOptions& thickness_options,
+                              Progress& progress) {
   // The thin-wall count is of the surface the coarsening started from.
   const std::string counted = result.remeshed.triangles.empty() ? " input vertices" : " vertices of the remeshed input";
   progress.message("poor hexes (min scaled Jacobian " + std::to_string(result.quality.scaled_jacobian_stats.min) +
                    ") and " + std::to_string(result.thin_wall_vertices) + counted +
                    " on thin walls: meshing again sized by wall thickness (--thickness-ratio 1)");
-  // A failure of the second try (TetGen refusing the finer surface, memory) must not cost
-  // the mesh already made: it is kept, and the summary says why the other is missing.
-  MeshTryReport thickness_try;
-  thickness_try.thickness_ratio = thickness_options.thickness_ratio;
-  try {
-    mesh_verified_input(retry, input_bvh, coarsening_bvh, thickness_options, progress);
-    thickness_try = try_report(retry);
-  } catch (const MeshingError& e) {
-    thickness_try.failed = true;
-    thickness_try.failure = e.what();
-  } catch (const std::bad_alloc&) {
-    thickness_try.failed = true;
-    thickness_try.failure = "out of memory";
-  }
-  // The seconds of each mesh's own stages (after the shared ones).
-  auto meshing_seconds = [&](const PipelineResult& r) {
-    double sum = 0;
-    for (size_t i = shared_stages; i < r.stages.size(); ++i) sum += r.stages[i].seconds;
-    return sum;
-  };
+  PipelineResult retry;
+  const MeshTryReport thickness_try =
+      mesh_again(result, retry, shared_stages, input_bvh, coarsening_bvh, thickness_options, progress);
   ThicknessRetryReport report;
   report.ran = true;
   report.thin_wall_vertices = result.thin_wall_vertices;
@@ -877,14 +892,79 @@ void retry_sized_by_thickness(PipelineResult& result, size_t shared_stages, cons
   report.thickness = thickness_try;
   report.kept_thickness = !thickness_try.failed && better_mesh(retry, result);
   if (report.kept_thickness) {  // the kept mesh's stages, and the first try as one line
-    const StageRecord first{"curvature-sized try", meshing_seconds(result), report.curvature};
+    const StageRecord first{"curvature-sized try", meshing_seconds(result, shared_stages), report.curvature};
     result = std::move(retry);
     result.stages.insert(result.stages.begin() + long(shared_stages), first);
   } else {
-    result.stages.push_back(StageRecord{"thickness-sized try", meshing_seconds(retry), thickness_try});
+    result.stages.push_back(StageRecord{"thickness-sized try", meshing_seconds(retry, shared_stages), thickness_try});
   }
   result.thickness_retry = report;
   result.thin_wall_vertices = report.thin_wall_vertices;
+  return report.kept_thickness;
+}
+
+// An eps as the summary shows it.
+std::string eps_text(double eps) {
+  std::ostringstream out;
+  out << std::setprecision(3) << eps;
+  return out.str();
+}
+
+// A mesh a solver can take: no inverted hex, and a closed boundary that does not fold into it.
+bool sound_mesh(const PipelineResult& result) { return result.quality.inverted == 0 && result.conforming; }
+
+// PipelineOptions::finer_retry: how often the eps is made smaller (by kEpsStep) for an unsound
+// mesh. Each retry costs about a run at the finer eps (Spot at --eps 0.2: 14 s unsound, then 4
+// s sound at 0.14).
+constexpr int kFinerRetries = 2;
+
+// An unsound `result`, meshed with `used`: projection folded the boundary of a coarse surface
+// that is too coarse where the input curves (Spot at --eps 0.2, the aneurysm at 0.4, the knot
+// at 0.5), and the untangling and the fold repair could not undo it all. It is meshed again at
+// kEpsStep x the eps while the mesh stays unsound, up to kFinerRetries times, and the best of
+// the meshes kept (better_mesh); the others are each one stage line, and result.finer_retry
+// says what was done.
+void retry_finer(PipelineResult& result, size_t shared_stages, const TriangleBvh& input_bvh,
+                 const TriangleBvh& coarsening_bvh, const PipelineOptions& used, Progress& progress) {
+  FinerRetryReport report;
+  report.ran = true;
+  report.tries.push_back(try_report(result));
+  std::vector<double> seconds{meshing_seconds(result, shared_stages)};
+  const ThicknessRetryReport thickness_retry = result.thickness_retry;
+  const size_t thin_wall_vertices = result.thin_wall_vertices;
+  PipelineOptions finer = used;
+  finer.eps = result.eps;
+  // `result` holds the best mesh so far, its stages those of the tries before it.
+  std::vector<StageRecord> before;
+  while (report.tries.size() <= size_t(kFinerRetries) && !sound_mesh(result)) {
+    finer.eps *= kEpsStep;
+    const MeshTryReport& last = report.tries.back();
+    std::ostringstream message;
+    message << "the mesh at eps " << eps_text(last.eps);
+    if (last.failed)
+      message << " failed (" << last.failure << ")";
+    else
+      message << " is unsound (" << last.inverted << " inverted" << (last.conforming ? "" : ", not conforming") << ")";
+    message << ": meshing again at eps " << eps_text(finer.eps);
+    progress.message(message.str());
+    PipelineResult retry;
+    const MeshTryReport tried = mesh_again(result, retry, shared_stages, input_bvh, coarsening_bvh, finer, progress);
+    report.tries.push_back(tried);
+    seconds.push_back(meshing_seconds(retry, shared_stages));
+    if (!tried.failed && better_mesh(retry, result)) {
+      // The tries before the new best become stage lines, in the order they ran.
+      for (size_t k = report.kept; k + 1 < report.tries.size(); ++k)
+        before.push_back(StageRecord{"eps " + eps_text(report.tries[k].eps) + " try", seconds[k], report.tries[k]});
+      report.kept = report.tries.size() - 1;
+      result = std::move(retry);
+    }
+  }
+  result.stages.insert(result.stages.begin() + long(shared_stages), before.begin(), before.end());
+  for (size_t k = report.kept + 1; k < report.tries.size(); ++k)
+    result.stages.push_back(StageRecord{"eps " + eps_text(report.tries[k].eps) + " try", seconds[k], report.tries[k]});
+  result.thickness_retry = thickness_retry;
+  result.thin_wall_vertices = thin_wall_vertices;
+  result.finer_retry = report;
 }
 
 // Walls thinner than their curvature size, predicted before the first mesh (docs/METHOD.md,
@@ -995,9 +1075,16 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
   }
   const size_t shared_stages = result.stages.size();
   mesh_verified_input(result, input_bvh, coarsening_bvh, first, progress, std::move(prepared));
+  PipelineOptions used = first;  // the options of the mesh kept
   if (first.thickness_ratio <= 0 && thickness_retry_possible(options) && poor_hexes(result) &&
-      thin_walls_likely_cause(result))
-    retry_sized_by_thickness(result, shared_stages, input_bvh, coarsening_bvh, options, progress);
+      thin_walls_likely_cause(result)) {
+    PipelineOptions thickness_options = options;
+    thickness_options.thickness_ratio = 1;
+    if (retry_sized_by_thickness(result, shared_stages, input_bvh, coarsening_bvh, thickness_options, progress))
+      used = thickness_options;
+  }
+  if (options.finer_retry && options.target_nodes == 0 && !options.thex_only && options.project && !sound_mesh(result))
+    retry_finer(result, shared_stages, input_bvh, coarsening_bvh, used, progress);
   result.total_seconds = seconds_since(start);
   check_strict(result, options);
   return result;

@@ -53,6 +53,12 @@ struct PipelineOptions {
   //! (conforming first, then fewer inverted hexes, then the higher minimum scaled Jacobian).
   //! Not with target_nodes (the second mesh would miss the budget).
   bool thickness_retry = true;
+  //! When the mesh ends unsound (an inverted hex, or a boundary not closed or folded into the
+  //! mesh: the coarse surface was too coarse for the boundary to be put back on the input
+  //! cleanly), mesh again at 0.7 x the eps, up to twice while it stays unsound, and keep the
+  //! better mesh (as thickness_retry does). Costs time only where the mesh is unsound. Not with
+  //! target_nodes (a finer mesh would miss the budget).
+  bool finer_retry = true;
   //! With thickness_retry: before the first mesh, predict thin walls from the wall thickness
   //! (stage "predict thin walls"). Where they are likely to be the cause of poor hexes the
   //! first mesh is sized by thickness and no curvature-sized mesh is made; a membrane (most of
@@ -167,6 +173,9 @@ struct PipelineResult {
   //! (PipelineOptions::thickness_retry; `ran` false when it did not run).
   double thickness_ratio_used = 0;
   ThicknessRetryReport thickness_retry;
+  //! What the retry at a finer eps did (PipelineOptions::finer_retry; `ran` false when it did
+  //! not run). `eps` above is the kept mesh's.
+  FinerRetryReport finer_retry;
   std::vector<size_t> worst_hexes;          //!< ids of the worst hexes by scaled Jacobian
   //! Every stage run, in order, with its time and typed report (stage_reports.h).
   std::vector<StageRecord> stages;

@@ -147,6 +147,7 @@ struct MeasureReport {
 //! try" or "thickness-sized try", the mesh not kept.
 struct MeshTryReport {
   double thickness_ratio = 0;  //!< 0 = sized by curvature alone
+  double eps = 0;              //!< the coarsening factor it was meshed at
   bool failed = false;         //!< it threw (then `failure` says why; the rest is unset)
   std::string failure;
   size_t inverted = 0;
@@ -192,6 +193,13 @@ struct ThicknessRetryReport {
   bool remeshed_input = false;      //!< that surface was the remeshed input
   MeshTryReport curvature, thickness;  //!< the two meshes
   bool kept_thickness = false;      //!< the thickness-sized mesh was kept
+};
+
+//! What the retry at a finer eps did (PipelineOptions::finer_retry), when it ran.
+struct FinerRetryReport {
+  bool ran = false;
+  std::vector<MeshTryReport> tries;  //!< the unsound mesh first, then each retry, in order
+  size_t kept = 0;                   //!< the index in `tries` of the mesh kept
 };
 
 }  // namespace dthex

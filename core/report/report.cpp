@@ -495,7 +495,7 @@ json fields(const MeasureReport& r) {
 }
 
 json fields(const MeshTryReport& r) {
-  json j = {{"thickness_ratio", r.thickness_ratio}, {"failed", r.failed}};
+  json j = {{"thickness_ratio", r.thickness_ratio}, {"eps", r.eps}, {"failed", r.failed}};
   if (r.failed) {
     j["failure"] = r.failure;
   } else {
@@ -513,6 +513,12 @@ json fields(const ThicknessRetryReport& r) {
           {"curvature_sized", fields(r.curvature)},
           {"thickness_sized", fields(r.thickness)},
           {"kept", r.kept_thickness ? "thickness" : "curvature"}};
+}
+
+json fields(const FinerRetryReport& r) {
+  json tries = json::array();
+  for (const MeshTryReport& t : r.tries) tries.push_back(fields(t));
+  return {{"tries", tries}, {"kept", r.kept}};
 }
 
 }  // namespace
@@ -578,9 +584,15 @@ std::string describe(const ThicknessRetryReport& r) {
   return out.str();
 }
 
-namespace {
-
-}  // namespace
+std::string describe(const FinerRetryReport& r) {
+  if (!r.ran || r.tries.empty()) return "";
+  std::ostringstream out;
+  out << "the mesh at eps " << std::setprecision(3) << r.tries.front().eps << " was unsound ("
+      << text(r.tries.front()) << "), so the input was meshed again at finer eps:";
+  for (size_t k = 1; k < r.tries.size(); ++k) out << "\n  eps " << r.tries[k].eps << " (" << text(r.tries[k]) << ")";
+  out << "\n  kept the mesh at eps " << r.tries[r.kept].eps;
+  return out.str();
+}
 
 std::string summary_table(const PipelineResult& r, const PipelineOptions& o) {
   std::ostringstream out;
@@ -643,6 +655,7 @@ std::string summary_table(const PipelineResult& r, const PipelineOptions& o) {
   }
   // Thin walls sized by curvature alone are the commonest cause of poor hexes left over.
   const bool poor = r.quality.inverted > 0 || r.quality.below_0_2 > 0;
+  if (r.finer_retry.ran) out << "  finer eps: " << describe(r.finer_retry) << "\n";
   if (r.thickness_retry.ran)
     out << "  thin walls: " << describe(r.thickness_retry) << "\n";
   else if (const auto* predicted = r.stage_report<ThinWallPredictionReport>("predict thin walls");
@@ -692,6 +705,7 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
                   {"max_edge_ratio", o.max_edge_ratio},
                   {"thickness_ratio", o.thickness_ratio},
                   {"thickness_retry", o.thickness_retry},
+                  {"finer_retry", o.finer_retry},
                   {"predict_thin_walls", o.predict_thin_walls},
                   {"thex_only", o.thex_only},
                   {"project", o.project},
@@ -711,6 +725,8 @@ std::string report_json(const PipelineResult& r, const PipelineOptions& o, const
     j["coarse"]["thickness_ratio_used"] = r.thickness_ratio_used;
     // What the automatic retry did (null when it did not run).
     j["coarse"]["thickness_retry"] = r.thickness_retry.ran ? fields(r.thickness_retry) : nlohmann::json();
+    // What the retry at a finer eps did (null when it did not run).
+    j["coarse"]["finer_retry"] = r.finer_retry.ran ? fields(r.finer_retry) : nlohmann::json();
   }
   j["tets"] = {{"count", r.tets}, {"shape", stats_json(r.tet_shape)}};
   j["hex"] = {{"nodes", r.hexes.nodes.size()},

@@ -17,6 +17,10 @@ std::string describe(const StageReport& report);
 //! spaces); "" when it did not run.
 std::string describe(const ThicknessRetryReport& report);
 
+//! What the retry at a finer eps did, over two or more lines (the later ones indented by two
+//! spaces); "" when it did not run.
+std::string describe(const FinerRetryReport& report);
+
 //! What the safe repairs of the input did: a line "  repaired: ..." for each repair that
 //! changed something (counts and the first ids), "" when none did.
 std::string describe(const SurfaceRepairReport& report);

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 // The pipeline's own decisions around the coarsening: a coarsening that fails at a large eps
-// falls back to a smaller one, for a given eps and in the --target-nodes search. And the sets
-// written with a result (find_result_sets).
+// falls back to a smaller one, for a given eps and in the --target-nodes search, and a mesh
+// that ends unsound is made again at a finer eps. And the sets written with a result
+// (find_result_sets).
+#include <dthex/hexes/conformity.h>
 #include <dthex/io/read_surface.h>
 #include <dthex/io/write_surface.h>
 #include <dthex/mesh/hex_topology.h>
@@ -10,6 +12,7 @@
 #include <dthex/surface/coarsen.h>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "scratch_dir.h"
 
@@ -138,6 +141,50 @@ TEST(PipelineEpsFallback, TargetNodesSearchPassesOverAFailingFineEnd) {
   EXPECT_GT(choose->finest_eps, 0.001);
   EXPECT_GE(result.eps, choose->finest_eps);
   EXPECT_NEAR(double(result.hexes.nodes.size()), double(options.target_nodes), 0.1 * double(options.target_nodes));
+}
+
+// The bundled Spot at eps 0.21: its coarse surface is too coarse at the top of the head for the
+// boundary to be put back on the input cleanly, and the mesh ends with boundary faces folded
+// into it. The pipeline meshes it again at 0.7 x the eps, keeps the sound mesh, and says so.
+TEST(PipelineFinerRetry, AnUnsoundMeshIsMadeAgainAtAFinerEpsAndTheSoundOneKept) {
+  PipelineOptions options;
+  options.eps = 0.21;
+  Progress quiet;
+  PipelineResult result;
+  ASSERT_NO_THROW(result = run_pipeline(std::string(DTHEX_SOURCE_DIR) + "/meshes/spot.off", options, quiet));
+  const FinerRetryReport& retry = result.finer_retry;
+  ASSERT_TRUE(retry.ran);
+  ASSERT_GE(retry.tries.size(), 2u);
+  // The case's premise: the first mesh is unsound (if it no longer is, pick another eps).
+  const MeshTryReport& first = retry.tries[0];
+  EXPECT_DOUBLE_EQ(first.eps, 0.21);
+  ASSERT_TRUE(!first.conforming || first.inverted > 0) << "the mesh at eps 0.21 is sound now";
+  EXPECT_NEAR(retry.tries[1].eps, 0.21 * 0.7, 1e-12);
+  ASSERT_GE(retry.kept, 1u);
+  EXPECT_DOUBLE_EQ(result.eps, retry.tries[retry.kept].eps);
+  EXPECT_EQ(retry.tries[retry.kept].min_scaled_jacobian, result.quality.scaled_jacobian_stats.min);
+  // The kept mesh is sound, by the pipeline's measure and by the checker itself.
+  EXPECT_EQ(result.quality.inverted, 0u);
+  EXPECT_TRUE(result.conforming);
+  const ConformityReport checked = check_conformity(result.hexes);
+  EXPECT_TRUE(checked.conforming());
+  EXPECT_EQ(checked.boundary_faces_inside, 0u);
+  EXPECT_GT(result.quality.scaled_jacobian_stats.min, 0.3);
+  // The unsound mesh is one stage line, before the kept mesh's own stages.
+  const MeshTryReport* line = result.stage_report<MeshTryReport>("eps 0.21 try");
+  ASSERT_NE(line, nullptr);
+  EXPECT_FALSE(line->conforming && line->inverted == 0);
+  size_t coarsen_stages = 0;
+  for (const StageRecord& s : result.stages) coarsen_stages += s.name == "coarsen";
+  EXPECT_EQ(coarsen_stages, 1u);
+  const std::string summary = summary_table(result, options);
+  EXPECT_NE(summary.find("finer eps: the mesh at eps 0.21 was unsound"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("kept the mesh at eps 0.147"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("(eps 0.147, dice 2)"), std::string::npos) << summary;
+  const nlohmann::json j = nlohmann::json::parse(report_json(result, options));
+  EXPECT_EQ(j["coarse"]["finer_retry"]["tries"].size(), retry.tries.size());
+  EXPECT_EQ(j["coarse"]["finer_retry"]["kept"], retry.kept);
+  EXPECT_EQ(j["coarse"]["finer_retry"]["tries"][0]["conforming"], false);
 }
 
 // The sets om_dthex writes with a result, found once for om_dthex and the benchmark: the

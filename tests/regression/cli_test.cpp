@@ -271,9 +271,23 @@ TEST(Cli, DefaultsAreTheLibrarysToTheLastBit) {
   EXPECT_EQ(options["knife_edge_slide"].get<double>(), defaults.knife_edge_slide);
   EXPECT_EQ(options["thickness_ratio"].get<double>(), defaults.thickness_ratio);
   EXPECT_EQ(options["thickness_retry"].get<bool>(), defaults.thickness_retry);
+  EXPECT_EQ(options["finer_retry"].get<bool>(), defaults.finer_retry);
   EXPECT_EQ(options["time_limit_seconds"].get<double>(), defaults.time_limit_seconds);
   EXPECT_EQ(options["tetgen"].get<std::string>(), dthex::kDTHexTetgenSwitches);
   EXPECT_EQ(options["remesh"].get<std::string>(), "auto");
+}
+
+// --no-finer-retry turns the retry at a finer eps off (it is on by default, above).
+TEST(Cli, NoFinerRetryTurnsTheRetryOff) {
+  const fs::path dir = scratch("no_finer_retry");
+  const fs::path json = dir / "r.json";
+  const CommandRun r = om_dthex(mesh("icosahedron.off") + " -q --no-finer-retry -o " + (dir / "o.vtu").string() +
+                                    " --report " + json.string(),
+                                dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json report = nlohmann::json::parse(read_bytes(json));
+  EXPECT_FALSE(report["options"]["finer_retry"].get<bool>());
+  EXPECT_TRUE(report["coarse"]["finer_retry"].is_null());
 }
 
 TEST(Cli, HtmlReportWithTheThexBaseline) {

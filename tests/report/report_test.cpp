@@ -102,6 +102,7 @@ TEST(ReportJson, StageEntriesCarryTheReportsAsNumbers) {
   EXPECT_TRUE(saw_measure);
   // No retry on the sphere: the key is there, and null.
   EXPECT_TRUE(j["coarse"]["thickness_retry"].is_null());
+  EXPECT_TRUE(j["coarse"]["finer_retry"].is_null());
 }
 
 // An enum is a string of its name, and the retry's two meshes are numbers, kept or not.
@@ -143,4 +144,40 @@ TEST(ReportJson, EnumsAreNamesAndTheThicknessRetryIsFields) {
   EXPECT_NE(text.find("kept the thickness-sized mesh"), std::string::npos) << text;
   EXPECT_NE(summary_table(r, PipelineOptions{}).find("thin walls: " + text), std::string::npos);
   EXPECT_EQ(describe(ThicknessRetryReport{}), "");
+}
+
+// The finer retry's tries are numbers with their eps, and its text names the one kept.
+TEST(ReportJson, TheFinerRetryIsFieldsAndALineInTheSummary) {
+  PipelineResult r;
+  r.input_path = "in.off";
+  MeshTryReport unsound, failed, sound;
+  unsound.eps = 0.4;
+  unsound.inverted = 1;
+  unsound.min_scaled_jacobian = -0.01;
+  failed.eps = 0.28;
+  failed.failed = true;
+  failed.failure = "tetgen: refused";
+  sound.eps = 0.196;
+  sound.min_scaled_jacobian = 0.4;
+  sound.conforming = true;
+  r.finer_retry.ran = true;
+  r.finer_retry.tries = {unsound, failed, sound};
+  r.finer_retry.kept = 2;
+  const nlohmann::json j = nlohmann::json::parse(report_json(r, PipelineOptions{}));
+  const nlohmann::json& retry = j["coarse"]["finer_retry"];
+  ASSERT_EQ(retry["tries"].size(), 3u);
+  EXPECT_EQ(retry["kept"], 2);
+  EXPECT_EQ(retry["tries"][0]["eps"], 0.4);
+  EXPECT_EQ(retry["tries"][0]["inverted"], 1);
+  EXPECT_TRUE(retry["tries"][1]["failed"].get<bool>());
+  EXPECT_EQ(retry["tries"][1]["failure"], "tetgen: refused");
+  EXPECT_EQ(retry["tries"][2]["min_scaled_jacobian"], 0.4);
+  const std::string text = describe(r.finer_retry);
+  EXPECT_NE(text.find("the mesh at eps 0.4 was unsound (min scaled Jacobian -0.01, 1 inverted, not conforming)"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("eps 0.28 (failed: tetgen: refused)"), std::string::npos) << text;
+  EXPECT_NE(text.find("kept the mesh at eps 0.196"), std::string::npos) << text;
+  EXPECT_NE(summary_table(r, PipelineOptions{}).find("finer eps: " + text), std::string::npos);
+  EXPECT_EQ(describe(FinerRetryReport{}), "");
 }
