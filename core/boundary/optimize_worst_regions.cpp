@@ -97,10 +97,13 @@ class WorstRegionOptimizer {
     return *std::min_element(sj.begin(), sj.end());
   }
 
-  // Steps of the continuation (see OptimizeWorstRegionsOptions::steps) from report.min_after;
+  // Steps of the continuation (OptimizeWorstRegionsOptions::steps and steps_while_poor) from report.min_after;
   // sj holds each hex's scaled Jacobian, and is kept so.
   void continuation(OptimizeWorstRegionsReport& report, std::vector<double>& sj) {
-    for (int step = 0; step < options_.steps && report.min_after < options_.target; ++step) {
+    auto more_steps = [&](int step) {
+      return step < options_.steps || (report.min_after < options_.poor_below && step < options_.steps_while_poor);
+    };
+    for (int step = 0; more_steps(step) && report.min_after < options_.target; ++step) {
       if (Clock::now() > deadline_) {
         report.time_limit_reached = true;
         break;

@@ -60,6 +60,38 @@ TEST(OptimizeWorstRegions, RaisesTheMinimumWhereTheNodeByNodeSmootherStopped) {
     if (on_boundary[v]) EXPECT_EQ(mesh.nodes[v], before[v]) << "boundary node " << v << " moved";
 }
 
+// Poor hexes (below poor_below) are worth more steps: the continuation goes on past `steps`
+// while each step gains and the minimum stays below poor_below, up to steps_while_poor, and
+// stops taking extra steps once the minimum is above it.
+TEST(OptimizeWorstRegions, TakesMoreStepsWhileTheWorstHexesArePoor) {
+  const TriSurface box = box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), 6);
+  const HexMesh start = perturbed_block(box, 6, 0.35);
+  const double min_before = measure_hex_quality(start).scaled_jacobian_stats.min;
+  OptimizeWorstRegionsOptions options;
+  options.target = 0.9;
+  options.steps = 1;
+  options.poor_below = -1;  // no extra steps
+  HexMesh one_step = start;
+  const OptimizeWorstRegionsReport plain = optimize_worst_regions(one_step, options);
+  options.poor_below = 0.2;
+  options.steps_while_poor = 48;
+  HexMesh more = start;
+  const OptimizeWorstRegionsReport extra = optimize_worst_regions(more, options);
+  ASSERT_LT(min_before, 0);  // some hexes start inverted
+  EXPECT_EQ(plain.steps, 1);
+  EXPECT_LT(plain.min_after, options.poor_below);
+  // The extra steps gained, up to above poor_below, and then stopped though the target is
+  // far (not for want of a gain).
+  EXPECT_GT(extra.steps, 1);
+  EXPECT_LE(extra.steps, options.steps_while_poor);
+  EXPECT_GE(extra.min_after, options.poor_below);
+  EXPECT_GT(extra.min_after, plain.min_after + 0.1);
+  EXPECT_EQ(extra.seeds_without_gain, 0u);
+  const HexQuality q = measure_hex_quality(more);
+  EXPECT_DOUBLE_EQ(q.scaled_jacobian_stats.min, extra.min_after);
+  EXPECT_EQ(q.inverted, 0u);
+}
+
 // A mesh with no hex below the target is not touched.
 TEST(OptimizeWorstRegions, LeavesAMeshAboveTheTargetAlone) {
   const Vec3 lo(0, 0, 0), hi(1, 1, 1);
