@@ -143,8 +143,8 @@ struct MeasureReport {
   size_t boundary_faces_inside = 0;
 };
 
-//! One whole meshing of the input (PipelineOptions::thickness_retry): stage "curvature-sized
-//! try" or "thickness-sized try", the mesh not kept.
+//! One whole meshing of the input (PipelineOptions::thickness_retry and finer_retry): stage
+//! "curvature-sized try", "thickness-sized try" or "eps E try", the mesh not kept.
 struct MeshTryReport {
   double thickness_ratio = 0;  //!< 0 = sized by curvature alone
   double eps = 0;              //!< the coarsening factor it was meshed at
