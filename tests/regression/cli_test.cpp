@@ -251,6 +251,28 @@ TEST(Cli, TargetNodesBelowDiceTwoChoosesDiceOne) {
   EXPECT_FALSE(fs::exists(dir / "given.vtu"));
 }
 
+// A budget below what the coarsest eps gives is refused naming the bound that holds it, and
+// following the advice reaches it: the liver keeps at least 837 nodes at eps 0.9 with dice 1,
+// and --max-edge-ratio 3 (the message's way out) takes it to 600; --hmax, which the message
+// used to name, does not.
+TEST(Cli, ATooSmallBudgetNamesTheWayOutAndTheWayOutWorks) {
+  const fs::path dir = scratch("too_small_budget");
+  const std::string out = " -q -o " + (dir / "o.vtu").string();
+  const CommandRun refused = om_dthex(mesh("liver.off") + " --target-nodes 600" + out, dir);
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("liver.off: at least"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("even with --dice 1"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("use a larger --max-edge-ratio"), std::string::npos) << refused.err;
+  EXPECT_FALSE(fs::exists(dir / "o.vtu"));
+  const CommandRun hmax = om_dthex(mesh("liver.off") + " --target-nodes 600 --hmax 100" + out, dir);
+  EXPECT_EQ(hmax.exit_code, 2) << "--hmax reaches the budget: the message may name it again";
+  const fs::path json = dir / "r.json";
+  const CommandRun followed =
+      om_dthex(mesh("liver.off") + " --target-nodes 600 --max-edge-ratio 3 --report " + json.string() + out, dir);
+  ASSERT_EQ(followed.exit_code, 0) << followed.err;
+  EXPECT_NEAR(nlohmann::json::parse(read_bytes(json))["hex"]["nodes"].get<double>(), 600.0, 60.0);
+}
+
 // What om_dthex runs with no option is what the library's PipelineOptions hold, to the last
 // bit: the benchmark and the tests use the library's. The CLI's default for --max-edge-ratio
 // was sqrt 2 rounded to 1.41421, and the armadillo meshed to 1,672,687 nodes from the command
