@@ -947,14 +947,8 @@ void retry_finer(PipelineResult& result, size_t shared_stages, const TriangleBvh
   while (report.tries.size() <= size_t(kFinerRetries) && !sound_mesh(result)) {
     finer.eps *= kEpsStep;
     const MeshTryReport& last = report.tries.back();
-    std::ostringstream message;
-    message << "the mesh at eps " << eps_text(last.eps);
-    if (last.failed)
-      message << " failed (" << last.failure << ")";
-    else
-      message << " is unsound (" << last.inverted << " inverted" << (last.conforming ? "" : ", not conforming") << ")";
-    message << ": meshing again at eps " << eps_text(finer.eps);
-    progress.message(message.str());
+    progress.message("the mesh at eps " + eps_text(last.eps) + " is unsound (" + describe(StageReport{last}) +
+                     "): meshing again at eps " + eps_text(finer.eps));
     PipelineResult retry;
     const MeshTryReport tried = mesh_again(result, retry, shared_stages, input_bvh, coarsening_bvh, finer, progress);
     report.tries.push_back(tried);
