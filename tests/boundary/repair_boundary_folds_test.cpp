@@ -4,6 +4,8 @@
 #include <dthex/hexes/conformity.h>
 #include <dthex/mesh/quality.h>
 
+#include "boundary_fixtures.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -77,12 +79,6 @@ size_t faces_inside(const HexMesh& m) {
   return find_boundary_faces_inside(m, quads, owners).faces_inside;
 }
 
-double min_scaled_jacobian(const HexMesh& m) {
-  double s = 1;
-  for (size_t h = 0; h < m.hexes.size(); ++h) s = std::min(s, hex_scaled_jacobian(hex_corners(m, h)));
-  return s;
-}
-
 RepairBoundaryFoldsReport repair(HexMesh& m, const TriangleBvh& surface) {
   std::vector<int> owners;
   const auto quads = boundary_quads(m, &owners);
@@ -95,7 +91,7 @@ TEST(RepairBoundaryFolds, TheCakeFixtureFoldsWithEveryHexValid) {
   // The fixture is what it claims: 95-degree slices overlap by 20 degrees at the slit, so the
   // two slit faces of each folded layer lie inside the other's hex; 80-degree ones do not.
   const HexMesh folded = cake(95, 1);
-  EXPECT_GT(min_scaled_jacobian(folded), 0.3);
+  EXPECT_GT(dthex::testing::min_scaled_jacobian(folded), 0.3);
   EXPECT_TRUE([&] {
     ConformityReport c = check_conformity(folded);
     c.boundary_faces_inside = 0;
@@ -116,7 +112,7 @@ TEST(RepairBoundaryFolds, RemovesTheFoldKeepingHexesValidAndFarNodesInPlace) {
   EXPECT_GT(r.moved_nodes, 0u);
   // The report's count is the truth, the scaled Jacobian is not below min(before, 0.2)...
   EXPECT_EQ(faces_inside(after), 0u);
-  EXPECT_GE(min_scaled_jacobian(after), std::min(min_scaled_jacobian(before), 0.2));
+  EXPECT_GE(dthex::testing::min_scaled_jacobian(after), std::min(dthex::testing::min_scaled_jacobian(before), 0.2));
   EXPECT_GE(r.region_min_scaled_jacobian_after, 0.2);
   // ...no node left the surface it was on (the axis stays the axis, the rim the cylinder)...
   for (size_t v = 0; v < after.nodes.size(); ++v) {

@@ -39,12 +39,6 @@ bool has_stage(const PipelineResult& r, const std::string& name) {
   return false;
 }
 
-double min_scaled_jacobian(const HexMesh& mesh) {
-  double m = 1;
-  for (size_t h = 0; h < mesh.hexes.size(); ++h) m = std::min(m, hex_scaled_jacobian(hex_corners(mesh, h)));
-  return m;
-}
-
 }  // namespace
 
 // At a 16-degree knife edge the one-node-at-a-time smoother stalls below 0.2 (measured: 0.10;

@@ -11,27 +11,24 @@
 namespace fs = std::filesystem;
 
 namespace {
-fs::path fresh_folder(const std::string& name) {
+fs::path atomic_folder(const std::string& name) {
   return dthex_test::fresh_dir("atomic_" + name);
-}
-size_t count_files(const fs::path& dir) {
-  return size_t(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
 }
 }  // namespace
 
 TEST(AtomicFile, WritesWholeFileUnderFinalName) {
-  const fs::path dir = fresh_folder("ok");
+  const fs::path dir = atomic_folder("ok");
   const std::string target = (dir / "out.txt").string();
   dthex::write_atomically(target, [](const std::string& tmp) { std::ofstream(tmp) << "hello"; });
   std::ifstream in(target);
   std::string text;
   in >> text;
   EXPECT_EQ(text, "hello");
-  EXPECT_EQ(count_files(dir), 1u);
+  EXPECT_EQ(dthex_test::count_files(dir), 1u);
 }
 
 TEST(AtomicFile, FailedWriteLeavesNeitherTemporaryNorOldFile) {
-  const fs::path dir = fresh_folder("fail");
+  const fs::path dir = atomic_folder("fail");
   const std::string target = (dir / "out.txt").string();
   EXPECT_THROW(dthex::write_atomically(target,
                                        [](const std::string& tmp) {
@@ -39,7 +36,7 @@ TEST(AtomicFile, FailedWriteLeavesNeitherTemporaryNorOldFile) {
                                          throw std::runtime_error("disk full");
                                        }),
                std::runtime_error);
-  EXPECT_EQ(count_files(dir), 0u);
+  EXPECT_EQ(dthex_test::count_files(dir), 0u);
 }
 
 TEST(AtomicFile, MissingFolderIsAnInputError) {
@@ -48,8 +45,8 @@ TEST(AtomicFile, MissingFolderIsAnInputError) {
 }
 
 TEST(AtomicFile, EmptyResultIsRefused) {
-  const fs::path dir = fresh_folder("empty");
+  const fs::path dir = atomic_folder("empty");
   EXPECT_THROW(dthex::write_atomically((dir / "o.txt").string(), [](const std::string& tmp) { std::ofstream{tmp}; }),
                std::runtime_error);
-  EXPECT_EQ(count_files(dir), 0u);
+  EXPECT_EQ(dthex_test::count_files(dir), 0u);
 }

@@ -6,6 +6,7 @@
 #include <dthex/io/write_hex_mesh.h>
 #include <dthex/mesh/quality.h>
 #include <dthex/mesh/types.h>
+#include "scratch_dir.h"
 #include "subprocess_util.h"
 
 #include <dthex/io/atomic_file.h>
@@ -58,12 +59,8 @@ HexMesh awkward_block() {
   });
 }
 
-fs::path fresh_folder(const std::string& name) {
+fs::path hex_write_folder(const std::string& name) {
   return dthex_test::fresh_dir("hexwrite_" + name);
-}
-
-size_t count_files(const fs::path& dir) {
-  return size_t(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
 }
 
 // Reads a hex mesh with meshio (or, for .feb, with Python's XML parser) and prints JSON.
@@ -192,7 +189,7 @@ class HexRoundTrip : public ::testing::TestWithParam<std::string> {};
 TEST_P(HexRoundTrip, ThirdPartyReadersGetTheSameMesh) {
   if (!dthex_test::meshio_available()) GTEST_SKIP() << "/usr/bin/python3 cannot import meshio";
   const std::string ext = GetParam();
-  const fs::path dir = fresh_folder(ext.substr(1));
+  const fs::path dir = hex_write_folder(ext.substr(1));
   for (const auto& [mesh, name] : {std::pair{unit_cubes(), "cubes"}, std::pair{awkward_block(), "awkward"}}) {
     const dthex::HexQuality quality = dthex::measure_hex_quality(mesh);
     const fs::path file = dir / (std::string(name) + ext);
@@ -243,7 +240,7 @@ TEST_P(HexRoundTrip, ThirdPartyReadersGetTheSameMesh) {
       EXPECT_NEAR(report["shape"]["min"].get<double>(), quality.shape_stats.min, 1e-9) << file;
     }
   }
-  EXPECT_EQ(count_files(dir), 3u) << "temporaries left behind";  // two meshes + the reader script
+  EXPECT_EQ(dthex_test::count_files(dir), 3u) << "temporaries left behind";  // two meshes + the reader script
 }
 
 INSTANTIATE_TEST_SUITE_P(AllFormats, HexRoundTrip,
@@ -251,7 +248,7 @@ INSTANTIATE_TEST_SUITE_P(AllFormats, HexRoundTrip,
                          [](const auto& info) { return info.param.substr(1); });
 
 TEST(WriteHexMesh, VtuIsRawAppendedWithExactDoubles) {
-  const fs::path dir = fresh_folder("vturaw");
+  const fs::path dir = hex_write_folder("vturaw");
   const HexMesh mesh = awkward_block();
   const std::string file = (dir / "m.vtu").string();
   dthex::write_hex_mesh(mesh, file);
@@ -267,7 +264,7 @@ TEST(WriteHexMesh, VtuIsRawAppendedWithExactDoubles) {
 }
 
 TEST(WriteHexMesh, UnknownExtensionAndBadFolderAreInputErrors) {
-  const fs::path dir = fresh_folder("bad");
+  const fs::path dir = hex_write_folder("bad");
   const HexMesh mesh = unit_cubes();
   EXPECT_THROW(dthex::write_hex_mesh(mesh, (dir / "m.stl").string()), dthex::InputError);
   EXPECT_THROW(dthex::write_hex_mesh(mesh, (dir / "missing" / "m.vtu").string()), dthex::InputError);
@@ -277,13 +274,13 @@ TEST(WriteHexMesh, UnknownExtensionAndBadFolderAreInputErrors) {
   broken.hexes[3][5] = int(mesh.nodes.size());
   EXPECT_THROW(dthex::write_hex_mesh(broken, (dir / "m.inp").string()), dthex::InputError);
   EXPECT_THROW(dthex::write_hex_mesh(mesh, (dir / "m.vtu").string(), {{0.5}, {}}), dthex::InputError);
-  EXPECT_EQ(count_files(dir), 1u);  // only plain_file
+  EXPECT_EQ(dthex_test::count_files(dir), 1u);  // only plain_file
   if (::geteuid() != 0) {  // root may write into a read-only folder
-    const fs::path locked = fresh_folder("locked");
+    const fs::path locked = hex_write_folder("locked");
     fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
     EXPECT_THROW(dthex::write_hex_mesh(mesh, (locked / "m.vtu").string()), dthex::InputError);
     fs::permissions(locked, fs::perms::owner_all);
-    EXPECT_EQ(count_files(locked), 0u);
+    EXPECT_EQ(dthex_test::count_files(locked), 0u);
   }
 }
 
@@ -291,11 +288,11 @@ TEST(WriteHexMesh, FailedWriteLeavesNoFile) {
   // A file-size limit makes writes fail with EFBIG, as a full disk would with ENOSPC.
   const HexMesh big = make_block(10, [](int i, int j, int k) { return Vec3(0.1 * i, 0.1 * j, 0.1 * k); });
   for (const std::string ext : {".vtu", ".vtk", ".msh", ".inp", ".feb", ".exo"}) {
-    const fs::path dir = fresh_folder("full" + ext.substr(1));
+    const fs::path dir = hex_write_folder("full" + ext.substr(1));
     const std::string file = (dir / ("m" + ext)).string();
     const int code = dthex_test::write_failure_under_file_size_limit(4096, [&] { dthex::write_hex_mesh(big, file); });
     EXPECT_EQ(code, 0) << ext << ": " << dthex_test::kWriteFailureCodes;
-    EXPECT_EQ(count_files(dir), 0u) << ext;
+    EXPECT_EQ(dthex_test::count_files(dir), 0u) << ext;
     // Without the limit the same write succeeds (so the failure above came from the limit).
     dthex::write_hex_mesh(big, file);
     EXPECT_GT(fs::file_size(file), 4096u) << ext;
@@ -306,7 +303,7 @@ TEST(WriteHexMesh, InpFieldsFitCalculixAndReadBackWithinTheirDigits) {
   // A model in metres (the coordinates of a vertebra) and one with extreme exponents: every
   // field of a *NODE line is at most 20 characters (CalculiX reads no more, and silently
   // misreads what is longer), and parses back within 1e-12 of the double written.
-  const fs::path dir = fresh_folder("inpwidth");
+  const fs::path dir = hex_write_folder("inpwidth");
   for (const double scale : {1e-5, 1e-95, 1e95}) {
     HexMesh mesh = awkward_block();
     for (Vec3& p : mesh.nodes) p = -scale * p * 0.9769344902824719;
@@ -354,7 +351,7 @@ TEST(WriteHexMesh, InpSetsReadBackByMeshio) {
   }
   const dthex::MeshSets sets = dthex::find_mesh_sets(mesh);
   ASSERT_EQ(sets.parts.size(), 2u);
-  const fs::path dir = fresh_folder("inpsets");
+  const fs::path dir = hex_write_folder("inpsets");
   const fs::path file = dir / "two.inp";
   dthex::write_hex_mesh(mesh, file.string());
   const fs::path script = dir / "sets.py";
@@ -546,7 +543,7 @@ TEST(WriteHexMesh, EveryFormatCarriesTheSetsItsReaderReadsBack) {
   ASSERT_EQ(sets.parts[1].hexes, std::vector<int>{0});
   ASSERT_EQ(sets.surfaces.size(), 2u + 12u + 1u);
   ASSERT_EQ(sets.surfaces.back().faces.size(), 4u);  // its name is longer than Exodus's default 32
-  const fs::path dir = fresh_folder("sets");
+  const fs::path dir = hex_write_folder("sets");
 
   for (const bool v22 : {false, true}) {  // Gmsh: physical groups of dimension 3 and 2
     const fs::path file = dir / (v22 ? "m22.msh" : "m41.msh");
@@ -713,7 +710,7 @@ TEST(WriteHexMesh, MaterialRegionsAndTheirInterfaceReadBackInEveryFormat) {
                                       [](const dthex::FaceSet& f) { return f.name == "body1_body2_interface"; });
   ASSERT_NE(interface, sets.surfaces.end());
   ASSERT_EQ(interface->faces.size(), 4u);
-  const fs::path dir = fresh_folder("regions");
+  const fs::path dir = hex_write_folder("regions");
 
   const fs::path msh = dir / "m.msh";
   dthex::write_hex_mesh(mesh, msh.string(), {}, &sets);
@@ -743,7 +740,7 @@ TEST(WriteHexMesh, MaterialRegionsAndTheirInterfaceReadBackInEveryFormat) {
 }
 
 TEST(WriteHexMesh, SetsThatDoNotMatchTheMeshAreRefused) {
-  const fs::path dir = fresh_folder("badsets");
+  const fs::path dir = hex_write_folder("badsets");
   const HexMesh mesh = two_bodies_small_first();
   const dthex::MeshSets good = dthex::find_mesh_sets(mesh);
   dthex::MeshSets missing = good, bad_face = good;
@@ -753,13 +750,13 @@ TEST(WriteHexMesh, SetsThatDoNotMatchTheMeshAreRefused) {
     EXPECT_THROW(dthex::write_hex_mesh(mesh, (dir / ("a" + ext)).string(), {}, &missing), dthex::InputError) << ext;
     EXPECT_THROW(dthex::write_hex_mesh(mesh, (dir / ("b" + ext)).string(), {}, &bad_face), dthex::InputError) << ext;
   }
-  EXPECT_EQ(count_files(dir), 0u);
+  EXPECT_EQ(dthex_test::count_files(dir), 0u);
 }
 
 TEST(WriteHexMesh, MshVersionOptionOfTheCommandLine) {
   // --msh-version 2.2 writes MSH 2.2 that gmsh reads with its physical groups; a version the
   // writer does not have is a usage error (exit 2) before any meshing.
-  const fs::path dir = fresh_folder("mshversion");
+  const fs::path dir = hex_write_folder("mshversion");
   const std::string input = std::string(DTHEX_SOURCE_DIR) + "/meshes/sphere728.off";
   const fs::path file = dir / "s.msh";
   const auto run = dthex_test::run_om_dthex(input + " -q --no-project --msh-version 2.2 -o " + file.string(), dir);

@@ -4,6 +4,7 @@
 #include <dthex/io/write_surface.h>
 #include <dthex/mesh/surface_mesh.h>
 #include <dthex/mesh/types.h>
+#include "scratch_dir.h"
 #include "subprocess_util.h"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
@@ -38,12 +39,8 @@ TriSurface awkward_icosahedron() {
   return s;
 }
 
-fs::path fresh_folder(const std::string& name) {
+fs::path surface_write_folder(const std::string& name) {
   return dthex_test::fresh_dir("surfwrite_" + name);
-}
-
-size_t count_files(const fs::path& dir) {
-  return size_t(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
 }
 
 //! Index r with read[(k + r) % 3] == written[k], i.e. the same oriented triangle; -1 if none.
@@ -69,11 +66,11 @@ class SurfaceRoundTrip : public ::testing::TestWithParam<std::string> {};
 // give back; the exact check is the meshio one below.
 TEST_P(SurfaceRoundTrip, OpenMeshReadsTheSameSurface) {
   const std::string ext = GetParam();
-  const fs::path dir = fresh_folder("om" + ext.substr(1));
+  const fs::path dir = surface_write_folder("om" + ext.substr(1));
   const TriSurface surface = awkward_icosahedron();
   const std::string file = (dir / ("ico" + ext)).string();
   dthex::write_surface(surface, file);
-  EXPECT_EQ(count_files(dir), 1u);
+  EXPECT_EQ(dthex_test::count_files(dir), 1u);
 
   dthex::SurfaceMesh mesh;
   ASSERT_TRUE(OpenMesh::IO::read_mesh(mesh, file)) << file;
@@ -90,7 +87,7 @@ TEST_P(SurfaceRoundTrip, OpenMeshReadsTheSameSurface) {
 TEST_P(SurfaceRoundTrip, MeshioReadsExactCoordinates) {
   if (!dthex_test::meshio_available()) GTEST_SKIP() << "/usr/bin/python3 cannot import meshio";
   const std::string ext = GetParam();
-  const fs::path dir = fresh_folder("mio" + ext.substr(1));
+  const fs::path dir = surface_write_folder("mio" + ext.substr(1));
   const TriSurface surface = awkward_icosahedron();
   const std::string file = (dir / ("ico" + ext)).string();
   dthex::write_surface(surface, file);
@@ -123,7 +120,7 @@ INSTANTIATE_TEST_SUITE_P(AllFormats, SurfaceRoundTrip, ::testing::Values(".off",
                          [](const auto& info) { return info.param.substr(1); });
 
 TEST(WriteSurface, ExtensionIsCaseInsensitiveAndUnknownOnesAreInputErrors) {
-  const fs::path dir = fresh_folder("ext");
+  const fs::path dir = surface_write_folder("ext");
   const TriSurface surface = awkward_icosahedron();
   dthex::write_surface(surface, (dir / "UPPER.OFF").string());
   std::ifstream in(dir / "UPPER.OFF");
@@ -141,18 +138,18 @@ TEST(WriteSurface, ExtensionIsCaseInsensitiveAndUnknownOnesAreInputErrors) {
   TriSurface broken = surface;
   broken.triangles[4][1] = -1;
   EXPECT_THROW(dthex::write_surface(broken, (dir / "b.off").string()), dthex::InputError);
-  EXPECT_EQ(count_files(dir), 1u);
+  EXPECT_EQ(dthex_test::count_files(dir), 1u);
   EXPECT_EQ(dthex::supported_surface_extensions().size(), 4u);
 }
 
 TEST(WriteSurface, FailedWriteLeavesNoFile) {
   const TriSurface surface = awkward_icosahedron();  // every format of it is > 1 kB
   for (const std::string ext : {".off", ".obj", ".ply", ".stl"}) {
-    const fs::path dir = fresh_folder("full" + ext.substr(1));
+    const fs::path dir = surface_write_folder("full" + ext.substr(1));
     const std::string file = (dir / ("s" + ext)).string();
     const int code = dthex_test::write_failure_under_file_size_limit(512, [&] { dthex::write_surface(surface, file); });
     EXPECT_EQ(code, 0) << ext << ": " << dthex_test::kWriteFailureCodes;
-    EXPECT_EQ(count_files(dir), 0u) << ext;
+    EXPECT_EQ(dthex_test::count_files(dir), 0u) << ext;
     dthex::write_surface(surface, file);
     EXPECT_GT(fs::file_size(file), 512u) << ext;
   }

@@ -3,6 +3,7 @@
 // with its options, and a run past the timeout is killed and reported as such.
 #include <dthex/pipeline/pipeline.h>
 #include "scratch_dir.h"
+#include "bundled_meshes.h"
 
 #include <gtest/gtest.h>
 
@@ -18,7 +19,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string mesh(const std::string& name) { return std::string(DTHEX_SOURCE_DIR) + "/meshes/" + name; }
 
 using CsvRow = std::map<std::string, std::string>;
 
@@ -52,16 +52,16 @@ int run_benchmark(const std::string& args, const fs::path& dir) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-fs::path scratch(const std::string& name) {
+fs::path benchmark_scratch(const std::string& name) {
   return dthex_test::fresh_dir("benchmark_" + name);
 }
 
 }  // namespace
 
 TEST(Benchmark, CsvRowsAreThePipelinesNumbers) {
-  const fs::path dir = scratch("csv");
+  const fs::path dir = benchmark_scratch("csv");
   const fs::path csv = dir / "b.csv";
-  ASSERT_EQ(run_benchmark(mesh("sphere728.off") + " --methods thex,dthex --timeout 120 --csv " + csv.string(), dir), 0);
+  ASSERT_EQ(run_benchmark(dthex_test::bundled_mesh("sphere728.off") + " --methods thex,dthex --timeout 120 --csv " + csv.string(), dir), 0);
   std::vector<std::string> header;
   const std::vector<CsvRow> rows = read_csv(csv, header);
   for (const char* column : {"mesh", "method", "status", "nodes", "hexes", "shape_avg", "shape_std", "shape_min",
@@ -76,7 +76,7 @@ TEST(Benchmark, CsvRowsAreThePipelinesNumbers) {
     dthex::PipelineOptions options;
     options.thex_only = row.at("method") == "thex";
     dthex::Progress quiet;
-    const dthex::PipelineResult r = dthex::run_pipeline(mesh("sphere728.off"), options, quiet);
+    const dthex::PipelineResult r = dthex::run_pipeline(dthex_test::bundled_mesh("sphere728.off"), options, quiet);
     EXPECT_EQ(std::stoul(row.at("input_triangles")), r.input.triangles.size());
     EXPECT_EQ(std::stoul(row.at("tets")), r.tets);
     EXPECT_EQ(std::stoul(row.at("nodes")), r.hexes.nodes.size());
@@ -124,17 +124,17 @@ TEST(Benchmark, CsvRowsAreThePipelinesNumbers) {
 }
 
 TEST(Benchmark, RunPastTheTimeoutIsKilledAndReported) {
-  const fs::path dir = scratch("timeout");
+  const fs::path dir = benchmark_scratch("timeout");
   const fs::path csv = dir / "t.csv";
   // The liver's DTHex takes seconds; 20 ms is not enough for anything past reading.
-  EXPECT_EQ(run_benchmark(mesh("liver.off") + " --methods dthex --timeout 0.02 --csv " + csv.string(), dir), 3);
+  EXPECT_EQ(run_benchmark(dthex_test::bundled_mesh("liver.off") + " --methods dthex --timeout 0.02 --csv " + csv.string(), dir), 3);
   std::vector<std::string> header;
   const std::vector<CsvRow> rows = read_csv(csv, header);
   ASSERT_EQ(rows.size(), 1u);
   EXPECT_EQ(rows[0].at("status"), "timeout");
   EXPECT_EQ(rows[0].at("hexes"), "0");
   // Bad usage is exit 2 naming the option.
-  EXPECT_EQ(run_benchmark(mesh("liver.off") + " --methods tetgen", dir), 2);
+  EXPECT_EQ(run_benchmark(dthex_test::bundled_mesh("liver.off") + " --methods tetgen", dir), 2);
   std::ifstream err(dir / "stderr.txt");
   std::stringstream text;
   text << err.rdbuf();

@@ -6,6 +6,7 @@
 #include <dthex/io/read_surface.h>
 #include <dthex/pipeline/pipeline.h>
 #include "subprocess_util.h"
+#include "bundled_meshes.h"
 
 #include <cstdlib>
 #include <filesystem>
@@ -27,9 +28,8 @@ using dthex_test::write_bytes;
 // has to turn a hang into a failure.
 CommandRun om_dthex(const std::string& args, const fs::path& dir) { return dthex_test::run_om_dthex(args, dir, "", 900); }
 
-fs::path scratch(const std::string& name) { return dthex_test::fresh_dir("cli_" + name); }
+fs::path cli_scratch(const std::string& name) { return dthex_test::fresh_dir("cli_" + name); }
 
-std::string mesh(const std::string& name) { return std::string(DTHEX_SOURCE_DIR) + "/meshes/" + name; }
 
 bool have_referee() {
   const std::string script = std::string(DTHEX_SHARED_DIR) + "/tools/hexeval.py";
@@ -39,7 +39,7 @@ bool have_referee() {
 }  // namespace
 
 TEST(Cli, HelpExplainsEveryOption) {
-  const fs::path dir = scratch("help");
+  const fs::path dir = cli_scratch("help");
   const CommandRun r = om_dthex("--help", dir);
   EXPECT_EQ(r.exit_code, 0);
   for (const char* option : {"--output", "--eps", "--dice", "--hmax", "--thickness-ratio", "--thex-only", "--no-project", "--strict",
@@ -49,7 +49,7 @@ TEST(Cli, HelpExplainsEveryOption) {
 }
 
 TEST(Cli, MissingInputFileIsExit2NamingTheFile) {
-  const fs::path dir = scratch("missing");
+  const fs::path dir = cli_scratch("missing");
   const CommandRun r = om_dthex((dir / "nope.off").string() + " -o " + (dir / "o.vtu").string(), dir);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("nope.off"), std::string::npos) << r.err;
@@ -57,8 +57,8 @@ TEST(Cli, MissingInputFileIsExit2NamingTheFile) {
 }
 
 TEST(Cli, BadOptionValuesAreExit2NamingTheOption) {
-  const fs::path dir = scratch("badopt");
-  const std::string in = mesh("icosahedron.off");
+  const fs::path dir = cli_scratch("badopt");
+  const std::string in = dthex_test::bundled_mesh("icosahedron.off");
   const std::string out = " -o " + (dir / "o.vtu").string();
   struct Case {
     std::string args, option;
@@ -80,7 +80,7 @@ TEST(Cli, BadOptionValuesAreExit2NamingTheOption) {
 }
 
 TEST(Cli, OpenSurfaceIsRefusedAndWritesNothing) {
-  const fs::path dir = scratch("open");
+  const fs::path dir = cli_scratch("open");
   // A tetrahedron with one face missing.
   write_bytes(dir / "open.off", "OFF\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n");
   const CommandRun r = om_dthex((dir / "open.off").string() + " -o " + (dir / "o.vtu").string() + " --report " +
@@ -94,9 +94,9 @@ TEST(Cli, OpenSurfaceIsRefusedAndWritesNothing) {
 }
 
 TEST(Cli, UserSetsReachTheInpAndAnEmptyOneWritesNothing) {
-  const fs::path dir = scratch("sets");
+  const fs::path dir = cli_scratch("sets");
   // sphere728 lies in [-1, 1]^3: its top cap is the boundary above z = 0.8.
-  const CommandRun ok = om_dthex(mesh("sphere728.off") + " -o " + (dir / "s.inp").string() +
+  const CommandRun ok = om_dthex(dthex_test::bundled_mesh("sphere728.off") + " -o " + (dir / "s.inp").string() +
                                      " --set cap=box:-2,-2,0.8,2,2,2 --report " + (dir / "s.json").string(),
                                  dir);
   ASSERT_EQ(ok.exit_code, 0) << ok.err;
@@ -107,21 +107,21 @@ TEST(Cli, UserSetsReachTheInpAndAnEmptyOneWritesNothing) {
   fs::remove(dir / "s.inp");
   fs::remove(dir / "s.json");
   // A box beside the sphere selects nothing: exit 2 naming the set, and no file at all.
-  const CommandRun empty = om_dthex(mesh("sphere728.off") + " -o " + (dir / "e.inp").string() +
+  const CommandRun empty = om_dthex(dthex_test::bundled_mesh("sphere728.off") + " -o " + (dir / "e.inp").string() +
                                         " --set far=box:5,5,5,6,6,6 --report " + (dir / "e.json").string(),
                                     dir);
   EXPECT_EQ(empty.exit_code, 2);
   EXPECT_NE(empty.err.find("--set far"), std::string::npos) << empty.err;
   EXPECT_EQ(entries_in(dir), 0u);
   // Bad text is refused before any meshing.
-  const CommandRun bad = om_dthex(mesh("sphere728.off") + " -o " + (dir / "b.inp").string() + " --set x=box:1,2", dir);
+  const CommandRun bad = om_dthex(dthex_test::bundled_mesh("sphere728.off") + " -o " + (dir / "b.inp").string() + " --set x=box:1,2", dir);
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("2 numbers where 6 are needed"), std::string::npos) << bad.err;
 }
 
 TEST(Cli, InwardSurfaceIsFlippedAndVerifies) {
-  const fs::path dir = scratch("inward");
-  const CommandRun r = om_dthex(mesh("heart.off") + " --verify-only", dir);
+  const fs::path dir = cli_scratch("inward");
+  const CommandRun r = om_dthex(dthex_test::bundled_mesh("heart.off") + " --verify-only", dir);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("flipped"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("15552 triangles"), std::string::npos) << r.out;
@@ -130,9 +130,9 @@ TEST(Cli, InwardSurfaceIsFlippedAndVerifies) {
 TEST(Cli, MeshesTheIcosahedronAndTheReportAgreesWithTheReferee) {
   // The paper's coarse sphere itself: verification, coarsening (nothing to remove),
   // TetGen, THex, dicing, projection onto itself, untangling, writing, the JSON report.
-  const fs::path dir = scratch("ico");
+  const fs::path dir = cli_scratch("ico");
   const fs::path out = dir / "ico.vtu", report = dir / "ico.json";
-  const CommandRun r = om_dthex(mesh("icosahedron.off") + " -q --dice 2 -o " + out.string() + " --report " + report.string(), dir);
+  const CommandRun r = om_dthex(dthex_test::bundled_mesh("icosahedron.off") + " -q --dice 2 -o " + out.string() + " --report " + report.string(), dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(r.out.empty());  // -q
   ASSERT_TRUE(fs::exists(out));
@@ -145,7 +145,7 @@ TEST(Cli, MeshesTheIcosahedronAndTheReportAgreesWithTheReferee) {
   if (!have_referee()) GTEST_SKIP() << "referee (python3-vtk9, meshio, scipy) not available";
   const fs::path referee = dir / "referee.json";
   const std::string command = "/usr/bin/python3 " + std::string(DTHEX_SHARED_DIR) + "/tools/hexeval.py " +
-                              out.string() + " --surface " + mesh("icosahedron.off") + " --json >" + referee.string();
+                              out.string() + " --surface " + dthex_test::bundled_mesh("icosahedron.off") + " --json >" + referee.string();
   EXPECT_EQ(std::system(command.c_str()), 0) << "referee says the mesh is not valid";
   std::string text = read_bytes(referee);
   while (!text.empty() && text.back() == '\n') text.pop_back();
@@ -163,10 +163,10 @@ TEST(Cli, DefaultsMeetThePapersSphereTargetAndJudgeInPlaceDoesNot) {
   // Issue 5's sphere: eps 0.1, dice 3, at most 3000 nodes at default options (collapses
   // judged after smoothing: 14 coarse vertices). --judge-in-place, the bound as the paper
   // prints it, stops at 20 coarse vertices and 4441 nodes.
-  const fs::path dir = scratch("judge");
+  const fs::path dir = cli_scratch("judge");
   auto run = [&](const std::string& extra) {
     const fs::path out = dir / "s.vtu", report = dir / "s.json";
-    const CommandRun r = om_dthex(mesh("sphere728.off") + " -q --dice 3" + extra + " -o " + out.string() +
+    const CommandRun r = om_dthex(dthex_test::bundled_mesh("sphere728.off") + " -q --dice 3" + extra + " -o " + out.string() +
                                       " --report " + report.string(),
                                   dir);
     EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -182,9 +182,9 @@ TEST(Cli, DefaultsMeetThePapersSphereTargetAndJudgeInPlaceDoesNot) {
 }
 
 TEST(Cli, WritesTheCoarseSurfaceAndItVerifies) {
-  const fs::path dir = scratch("coarse");
+  const fs::path dir = cli_scratch("coarse");
   const fs::path coarse = dir / "coarse.off";
-  const CommandRun r = om_dthex(mesh("sphere728.off") + " -q --no-project -o " + (dir / "o.msh").string() +
+  const CommandRun r = om_dthex(dthex_test::bundled_mesh("sphere728.off") + " -q --no-project -o " + (dir / "o.msh").string() +
                              " --coarse-surface " + coarse.string(),
                          dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -196,11 +196,11 @@ TEST(Cli, WritesTheCoarseSurfaceAndItVerifies) {
 }
 
 TEST(Cli, TargetNodesLandWithinTenPercent) {
-  const fs::path dir = scratch("target");
+  const fs::path dir = cli_scratch("target");
   for (size_t target : {9000u, 16000u, 30000u}) {
     const fs::path report = dir / "r.json";
     // Projection moves nodes but adds none: --no-project keeps the test fast.
-    const CommandRun r = om_dthex(mesh("liver.off") + " -q --no-project --target-nodes " + std::to_string(target) +
+    const CommandRun r = om_dthex(dthex_test::bundled_mesh("liver.off") + " -q --no-project --target-nodes " + std::to_string(target) +
                                          " -o " + (dir / "o.vtu").string() + " --report " + report.string(),
                                      dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -208,7 +208,7 @@ TEST(Cli, TargetNodesLandWithinTenPercent) {
     const double nodes = j["hex"]["nodes"].get<double>();
     EXPECT_NEAR(nodes, double(target), 0.1 * double(target)) << "target " << target;
   }
-  const CommandRun low = om_dthex(mesh("liver.off") + " -q --target-nodes 500 -o " + (dir / "low.vtu").string(), dir);
+  const CommandRun low = om_dthex(dthex_test::bundled_mesh("liver.off") + " -q --target-nodes 500 -o " + (dir / "low.vtu").string(), dir);
   EXPECT_EQ(low.exit_code, 2);
   EXPECT_NE(low.err.find("--target-nodes"), std::string::npos) << low.err;
   EXPECT_NE(low.err.find("at least"), std::string::npos) << low.err;
@@ -220,10 +220,10 @@ TEST(Cli, TargetNodesLandWithinTenPercent) {
 // is met with dice 1 when --dice is not given; the report says which dicing and why. With
 // --dice 2 given the budget is refused as before, naming that dicing.
 TEST(Cli, TargetNodesBelowDiceTwoChoosesDiceOne) {
-  const fs::path dir = scratch("target_dice");
+  const fs::path dir = cli_scratch("target_dice");
   const fs::path report = dir / "r.json";
   const size_t target = 2000;
-  const CommandRun r = om_dthex(mesh("liver.off") + " --target-nodes " + std::to_string(target) + " -o " +
+  const CommandRun r = om_dthex(dthex_test::bundled_mesh("liver.off") + " --target-nodes " + std::to_string(target) + " -o " +
                                     (dir / "o.vtu").string() + " --report " + report.string(),
                                 dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -242,7 +242,7 @@ TEST(Cli, TargetNodesBelowDiceTwoChoosesDiceOne) {
       << choose["summary"];
   EXPECT_NE(r.out.find("dice 1)"), std::string::npos) << r.out;  // the summary's first line
 
-  const CommandRun given = om_dthex(mesh("liver.off") + " -q --dice 2 --target-nodes " + std::to_string(target) +
+  const CommandRun given = om_dthex(dthex_test::bundled_mesh("liver.off") + " -q --dice 2 --target-nodes " + std::to_string(target) +
                                         " -o " + (dir / "given.vtu").string(),
                                     dir);
   EXPECT_EQ(given.exit_code, 2);
@@ -256,19 +256,19 @@ TEST(Cli, TargetNodesBelowDiceTwoChoosesDiceOne) {
 // and --max-edge-ratio 3 (the message's way out) takes it to 600; --hmax, which the message
 // used to name, does not.
 TEST(Cli, ATooSmallBudgetNamesTheWayOutAndTheWayOutWorks) {
-  const fs::path dir = scratch("too_small_budget");
+  const fs::path dir = cli_scratch("too_small_budget");
   const std::string out = " -q -o " + (dir / "o.vtu").string();
-  const CommandRun refused = om_dthex(mesh("liver.off") + " --target-nodes 600" + out, dir);
+  const CommandRun refused = om_dthex(dthex_test::bundled_mesh("liver.off") + " --target-nodes 600" + out, dir);
   EXPECT_EQ(refused.exit_code, 2);
   EXPECT_NE(refused.err.find("liver.off: at least"), std::string::npos) << refused.err;
   EXPECT_NE(refused.err.find("even with --dice 1"), std::string::npos) << refused.err;
   EXPECT_NE(refused.err.find("use a larger --max-edge-ratio"), std::string::npos) << refused.err;
   EXPECT_FALSE(fs::exists(dir / "o.vtu"));
-  const CommandRun hmax = om_dthex(mesh("liver.off") + " --target-nodes 600 --hmax 100" + out, dir);
+  const CommandRun hmax = om_dthex(dthex_test::bundled_mesh("liver.off") + " --target-nodes 600 --hmax 100" + out, dir);
   EXPECT_EQ(hmax.exit_code, 2) << "--hmax reaches the budget: the message may name it again";
   const fs::path json = dir / "r.json";
   const CommandRun followed =
-      om_dthex(mesh("liver.off") + " --target-nodes 600 --max-edge-ratio 3 --report " + json.string() + out, dir);
+      om_dthex(dthex_test::bundled_mesh("liver.off") + " --target-nodes 600 --max-edge-ratio 3 --report " + json.string() + out, dir);
   ASSERT_EQ(followed.exit_code, 0) << followed.err;
   EXPECT_NEAR(nlohmann::json::parse(read_bytes(json))["hex"]["nodes"].get<double>(), 600.0, 60.0);
 }
@@ -278,9 +278,9 @@ TEST(Cli, ATooSmallBudgetNamesTheWayOutAndTheWayOutWorks) {
 // was sqrt 2 rounded to 1.41421, and the armadillo meshed to 1,672,687 nodes from the command
 // against 1,669,653 through the API.
 TEST(Cli, DefaultsAreTheLibrarysToTheLastBit) {
-  const fs::path dir = scratch("defaults");
+  const fs::path dir = cli_scratch("defaults");
   const fs::path json = dir / "r.json";
-  const CommandRun r = om_dthex(mesh("icosahedron.off") + " -q -o " + (dir / "o.vtu").string() + " --report " + json.string(), dir);
+  const CommandRun r = om_dthex(dthex_test::bundled_mesh("icosahedron.off") + " -q -o " + (dir / "o.vtu").string() + " --report " + json.string(), dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json options = nlohmann::json::parse(read_bytes(json))["options"];
   const dthex::PipelineOptions defaults;
@@ -301,9 +301,9 @@ TEST(Cli, DefaultsAreTheLibrarysToTheLastBit) {
 
 // --no-finer-retry turns the retry at a finer eps off (it is on by default, above).
 TEST(Cli, NoFinerRetryTurnsTheRetryOff) {
-  const fs::path dir = scratch("no_finer_retry");
+  const fs::path dir = cli_scratch("no_finer_retry");
   const fs::path json = dir / "r.json";
-  const CommandRun r = om_dthex(mesh("icosahedron.off") + " -q --no-finer-retry -o " + (dir / "o.vtu").string() +
+  const CommandRun r = om_dthex(dthex_test::bundled_mesh("icosahedron.off") + " -q --no-finer-retry -o " + (dir / "o.vtu").string() +
                                     " --report " + json.string(),
                                 dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -314,9 +314,9 @@ TEST(Cli, NoFinerRetryTurnsTheRetryOff) {
 
 TEST(Cli, HtmlReportWithTheThexBaseline) {
   // --report picks the format by extension; --compare-thex adds the THex run to both.
-  const fs::path dir = scratch("html");
+  const fs::path dir = cli_scratch("html");
   const fs::path html = dir / "r.html", json = dir / "r.json";
-  const std::string in = mesh("sphere728.off");
+  const std::string in = dthex_test::bundled_mesh("sphere728.off");
   const CommandRun r = om_dthex(in + " -q --compare-thex -o " + (dir / "o.vtu").string() + " --report " + html.string(), dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string page = read_bytes(html);
@@ -345,8 +345,8 @@ TEST(Cli, HtmlReportWithTheThexBaseline) {
 TEST(Cli, UnwritableOutputFolderIsExit2NamingTheOption) {
   // /proc/1 exists and is not writable even for root (the tests may run as root, where
   // permission bits do not stop writes).
-  const fs::path dir = scratch("unwritable");
-  const std::string in = mesh("icosahedron.off"), out = " -o " + (dir / "o.vtu").string();
+  const fs::path dir = cli_scratch("unwritable");
+  const std::string in = dthex_test::bundled_mesh("icosahedron.off"), out = " -o " + (dir / "o.vtu").string();
   struct Case {
     std::string args, option;
   };
@@ -378,8 +378,8 @@ std::string off_text(const dthex::TriSurface& s) {
 // corners), mesh exactly like the sphere itself, and the summary and report say what was
 // repaired; --repair none refuses the flipped one as before.
 TEST(Cli, SafeRepairsMeshLikeTheCleanFileAndNoneRefuses) {
-  const fs::path dir = scratch("repair");
-  const dthex::TriSurface sphere = dthex::read_surface(mesh("sphere728.off"));
+  const fs::path dir = cli_scratch("repair");
+  const dthex::TriSurface sphere = dthex::read_surface(dthex_test::bundled_mesh("sphere728.off"));
   dthex::TriSurface flipped = sphere;
   std::swap(flipped.triangles[366][1], flipped.triangles[366][2]);
   write_bytes(dir / "flipped.off", off_text(flipped));
@@ -399,7 +399,7 @@ TEST(Cli, SafeRepairsMeshLikeTheCleanFileAndNoneRefuses) {
                         (dir / (name + "_coarse.off")).string() + " --report " + (dir / (name + ".json")).string(),
                     dir);
   };
-  const CommandRun clean = run(mesh("sphere728.off"), "clean");
+  const CommandRun clean = run(dthex_test::bundled_mesh("sphere728.off"), "clean");
   ASSERT_EQ(clean.exit_code, 0) << clean.err;
   EXPECT_EQ(clean.out.find("repaired"), std::string::npos) << clean.out;
   const nlohmann::json clean_report = nlohmann::json::parse(read_bytes(dir / "clean.json"));
@@ -428,7 +428,7 @@ TEST(Cli, SafeRepairsMeshLikeTheCleanFileAndNoneRefuses) {
   EXPECT_EQ(read_bytes(dir / "tripled.vtu"), read_bytes(dir / "clean.vtu"));
 
   // --repair none: refused as before, nothing written.
-  const fs::path none_dir = scratch("repair_none");
+  const fs::path none_dir = cli_scratch("repair_none");
   const CommandRun refused = om_dthex((dir / "flipped.off").string() + " --repair none -o " + (none_dir / "o.vtu").string(), none_dir);
   EXPECT_EQ(refused.exit_code, 2);
   EXPECT_NE(refused.err.find("inconsistent orientation: triangles "), std::string::npos) << refused.err;
@@ -446,8 +446,8 @@ TEST(Cli, SafeRepairsMeshLikeTheCleanFileAndNoneRefuses) {
 // --min-island N drops the islands of fewer than N triangles (off by default), and needs
 // --repair safe.
 TEST(Cli, MinIslandDropsANoiseIslandBesideTheSphere) {
-  const fs::path dir = scratch("island");
-  dthex::TriSurface s = dthex::read_surface(mesh("sphere728.off"));
+  const fs::path dir = cli_scratch("island");
+  dthex::TriSurface s = dthex::read_surface(dthex_test::bundled_mesh("sphere728.off"));
   const int base = int(s.points.size());
   for (int k = 0; k < 5; ++k) s.points.push_back(dthex::Vec3(5 + 0.1 * std::cos(2 * M_PI * k / 5), 0.1 * std::sin(2 * M_PI * k / 5), 0));
   s.points.push_back(dthex::Vec3(5, 0, 0.1));
@@ -480,8 +480,8 @@ TEST(Cli, MinIslandDropsANoiseIslandBesideTheSphere) {
 // exports them) is a second part, with its interface a surface of its own in the .inp and each
 // region judged alone in the report; a value other than cavity or material is exit 2.
 TEST(Cli, NestedMaterialIsASecondPartWithItsInterface) {
-  const fs::path dir = scratch("nested");
-  dthex::TriSurface s = dthex::read_surface(mesh("sphere728.off"));
+  const fs::path dir = cli_scratch("nested");
+  dthex::TriSurface s = dthex::read_surface(dthex_test::bundled_mesh("sphere728.off"));
   const int base = int(s.points.size());
   const size_t triangles = s.triangles.size();
   for (int v = 0; v < base; ++v) s.points.push_back(0.5 * s.points[size_t(v)]);
@@ -516,8 +516,8 @@ TEST(Cli, NestedMaterialIsASecondPartWithItsInterface) {
 
 // --min-island F% drops closed islands below F percent of the largest one's volume.
 TEST(Cli, MinIslandAsAVolumePercentage) {
-  const fs::path dir = scratch("island_volume");
-  dthex::TriSurface s = dthex::read_surface(mesh("sphere728.off"));
+  const fs::path dir = cli_scratch("island_volume");
+  dthex::TriSurface s = dthex::read_surface(dthex_test::bundled_mesh("sphere728.off"));
   // A cube of side 0.2 (volume 0.008, about 0.2% of the unit sphere's 4.19) beside it.
   const int base = int(s.points.size());
   for (int i = 0; i < 8; ++i) s.points.push_back(dthex::Vec3(3 + 0.2 * (i & 1), 0.2 * ((i >> 1) & 1), 0.2 * ((i >> 2) & 1)));
@@ -550,7 +550,7 @@ TEST(Cli, MinIslandAsAVolumePercentage) {
 
 // Two cubes 1e-3 apart (well above the near-contact tolerance) mesh as two bodies.
 TEST(Cli, TwoCubesAMillimetreApartMeshAsTwoBodies) {
-  const fs::path dir = scratch("cubes_apart");
+  const fs::path dir = cli_scratch("cubes_apart");
   dthex::TriSurface s;
   for (double x0 : {0.0, 1.001}) {
     const int base = int(s.points.size());

@@ -7,6 +7,7 @@
 #include <dthex/io/read_surface.h>
 #include <dthex/tets/tetrahedralize.h>
 #include "hostile_test_util.h"
+#include "bundled_meshes.h"
 
 #include <gtest/gtest.h>
 
@@ -22,7 +23,6 @@ extern char** environ;
 
 namespace {
 
-std::string mesh(const std::string& name) { return std::string(DTHEX_SOURCE_DIR) + "/meshes/" + name; }
 
 //! A small valid input that meshes in well under a second.
 fs::path write_cube(const fs::path& dir) {
@@ -83,7 +83,7 @@ TEST(FailurePaths, UnwritableFolderIsExit2BeforeAnyWork) {
   // root may write anywhere: run the command as nobody then.
   const std::string as_user = ::geteuid() == 0 ? "setpriv --reuid=65534 --regid=65534 --clear-groups " : "";
   // The femur takes many seconds to mesh; the refusal must come first (-v would list stages).
-  const CommandRun r = run_om_dthex(mesh("femur_proximal_ct.off") + " -v -o " + (locked / "o.vtu").string(), dir, as_user);
+  const CommandRun r = run_om_dthex(dthex_test::bundled_mesh("femur_proximal_ct.off") + " -v -o " + (locked / "o.vtu").string(), dir, as_user);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("not writable"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("read"), std::string::npos) << "no stage may run before the refusal: " << r.err;
@@ -133,7 +133,7 @@ TEST(FailurePaths, FailingReportRemovesTheAlreadyWrittenMesh) {
 TEST(FailurePaths, SigintMidRunExits130AndLeavesNothing) {
   const fs::path dir = fresh_dir("fp_sigint");
   const std::string binary = std::string(DTHEX_BINARY_DIR) + "/om_dthex";
-  const std::string input = mesh("femur_proximal_ct.off"), output = (dir / "o.vtu").string();
+  const std::string input = dthex_test::bundled_mesh("femur_proximal_ct.off"), output = (dir / "o.vtu").string();
   std::vector<std::string> args = {binary, input, "-q", "-o", output, "--report", (dir / "r.json").string()};
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
@@ -196,7 +196,7 @@ TEST(FailurePaths, WriteGroupCommitsAllOrNothing) {
 
 TEST(FailurePaths, TetgenTimeLimitIsExit3WithAMessage) {
   const fs::path dir = fresh_dir("fp_time");
-  const CommandRun r = run_om_dthex(mesh("femur_proximal_ct.off") + " -q --thex-only --time-limit 0.01 -o " +
+  const CommandRun r = run_om_dthex(dthex_test::bundled_mesh("femur_proximal_ct.off") + " -q --thex-only --time-limit 0.01 -o " +
                                  (dir / "o.vtu").string(),
                              dir);
   EXPECT_EQ(r.exit_code, 3) << r.err;
@@ -228,7 +228,7 @@ TEST(FailurePaths, TetgenChildDiesWithItsParent) {
   // child must not keep meshing for minutes: it has PR_SET_PDEATHSIG.
   if (!fs::exists("/proc/self/task/" + std::to_string(::getpid()) + "/children"))
     GTEST_SKIP() << "no /proc/<pid>/task/<pid>/children on this kernel";
-  const dthex::TriSurface femur = dthex::read_surface(mesh("femur_proximal_ct.off"));  // TetGen takes > 10 s
+  const dthex::TriSurface femur = dthex::read_surface(dthex_test::bundled_mesh("femur_proximal_ct.off"));  // TetGen takes > 10 s
   std::fflush(nullptr);
   const pid_t parent = ::fork();
   if (parent == 0) {

@@ -7,6 +7,7 @@
 #include <dthex/pipeline/pipeline.h>
 #include <dthex/report/report_html.h>
 #include "scratch_dir.h"
+#include "bundled_meshes.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -26,7 +27,6 @@ using namespace dthex;
 
 namespace {
 
-std::string mesh(const std::string& name) { return std::string(DTHEX_SOURCE_DIR) + "/meshes/" + name; }
 
 std::string slurp(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -176,9 +176,9 @@ const SphereRuns& sphere_runs() {
   static const SphereRuns runs = [] {
     SphereRuns r;
     Progress quiet;
-    r.dthex = run_pipeline(mesh("sphere728.off"), r.options, quiet);
+    r.dthex = run_pipeline(dthex_test::bundled_mesh("sphere728.off"), r.options, quiet);
     r.thex_options.thex_only = true;
-    r.thex = run_pipeline(mesh("sphere728.off"), r.thex_options, quiet);
+    r.thex = run_pipeline(dthex_test::bundled_mesh("sphere728.off"), r.thex_options, quiet);
     return r;
   }();
   return runs;
@@ -354,7 +354,7 @@ TEST(ReportHtml, LargeBoundaryIsReducedClosedAndKeepsEveryPoorHex) {
 TEST(ReportHtml, InputSurfaceOverTheCapIsReducedWithoutHoles) {
   PipelineResult r;
   r.input_path = "femur";
-  r.input = read_surface(mesh("femur_proximal_ct.off"));
+  r.input = read_surface(dthex_test::bundled_mesh("femur_proximal_ct.off"));
   PipelineOptions options;
   options.thex_only = true;
   ReportHtmlOptions html;

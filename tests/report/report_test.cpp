@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/report/report.h>
+#include "bundled_meshes.h"
 
 #include <nlohmann/json.hpp>
 
@@ -11,13 +12,12 @@ using namespace dthex;
 
 namespace {
 
-std::string mesh(const std::string& name) { return std::string(DTHEX_SOURCE_DIR) + "/meshes/" + name; }
 
 // The sphere meshed by DTHex once for the tests below (well under a second).
 const PipelineResult& sphere_run() {
   static const PipelineResult run = [] {
     Progress quiet;
-    return run_pipeline(mesh("sphere728.off"), PipelineOptions{}, quiet);
+    return run_pipeline(dthex_test::bundled_mesh("sphere728.off"), PipelineOptions{}, quiet);
   }();
   return run;
 }

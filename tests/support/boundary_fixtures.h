@@ -4,6 +4,7 @@
 // (the paper's sphere case), and labelling of boundary nodes with their coarse facet.
 #pragma once
 
+#include <dthex/mesh/quality.h>
 #include <dthex/mesh/triangle_bvh.h>
 #include <dthex/mesh/types.h>
 
@@ -175,6 +176,13 @@ inline HexMesh perturbed_block(const TriSurface& box, int n, double cells) {
   for (size_t v = 0; v < mesh.nodes.size(); ++v)
     if (!mesh.is_boundary_node(int(v))) mesh.nodes[v] += Vec3(next(), next(), next()) * (2 * cells / n);
   return mesh;
+}
+
+//! The smallest scaled Jacobian over the hexes of `m` (1 for no hex).
+inline double min_scaled_jacobian(const HexMesh& m) {
+  double s = 1;
+  for (size_t h = 0; h < m.hexes.size(); ++h) s = std::min(s, hex_scaled_jacobian(hex_corners(m, h)));
+  return s;
 }
 
 }  // namespace dthex::testing

@@ -8,6 +8,7 @@
 #include <dthex/surface/verify_surface.h>
 
 #include <dthex/modules/DTHexGeometry.hh>
+#include "bundled_meshes.h"
 
 #include <gtest/gtest.h>
 
@@ -18,7 +19,6 @@ using namespace dthex;
 
 namespace {
 
-TriSurface load(const std::string& name) { return read_surface(std::string(DTHEX_SOURCE_DIR) + "/meshes/" + name); }
 
 double diagonal(const TriSurface& s) {
   Eigen::AlignedBox3d box;
@@ -124,7 +124,7 @@ void check_coarse_surface(const TriSurface& input, const CoarsenOptions& options
 }  // namespace
 
 TEST(Coarsen, Sphere728AtEps01GivesACoarseClosedSphere) {
-  const TriSurface input = load("sphere728.off");
+  const TriSurface input = dthex_test::read_bundled_mesh("sphere728.off");
   const CoarsenResult r = coarsen(input);
   EXPECT_GE(r.surface.points.size(), 12u);
   EXPECT_LE(r.surface.points.size(), 40u);
@@ -142,7 +142,7 @@ TEST(Coarsen, Sphere728AtEps01CoarsensUntilEveryEdgeIsNearItsSize) {
   // is smoothed) stopped at 20 vertices with edges down to 0.67 h; judged where the
   // smoothing puts the kept vertex, it goes on to 14 (the last two collapses to the
   // icosahedron need a transient edge of >= 1.46 h).
-  const TriSurface input = load("sphere728.off");
+  const TriSurface input = dthex_test::read_bundled_mesh("sphere728.off");
   CoarsenOptions options;
   options.judge_after_smoothing = true;
   const CoarsenResult r = coarsen(input, options);
@@ -186,13 +186,13 @@ TEST(Coarsen, UniformInputAtTheSizeFloorIsKeptEvenJudgedAfterSmoothing) {
   // normalized length is 1 up to rounding: nothing is short, nothing collapses.
   CoarsenOptions options;
   options.judge_after_smoothing = true;
-  const CoarsenResult r = coarsen(load("icosahedron.off"), options);
+  const CoarsenResult r = coarsen(dthex_test::read_bundled_mesh("icosahedron.off"), options);
   EXPECT_EQ(r.surface.points.size(), 12u);
   EXPECT_EQ(r.collapses, 0u);
 }
 
 TEST(Coarsen, LargerEpsGivesFewerVertices) {
-  const TriSurface input = load("sphere728.off");
+  const TriSurface input = dthex_test::read_bundled_mesh("sphere728.off");
   size_t previous = input.points.size() + 1;
   std::vector<size_t> counts;
   for (double eps : {0.005, 0.01, 0.05, 0.1, 0.3}) {
@@ -209,7 +209,7 @@ TEST(Coarsen, LargerEpsGivesFewerVertices) {
 TEST(Coarsen, BundledMeshesStayValid) {
   for (const char* name : {"liver.off", "spot.off", "vertebra_L1.off", "heart.off"}) {
     CoarsenOptions options;
-    check_coarse_surface(load(name), options, name);
+    check_coarse_surface(dthex_test::read_bundled_mesh(name), options, name);
   }
 }
 
@@ -219,11 +219,11 @@ TEST(Coarsen, JudgedAfterSmoothingBundledMeshesStayValidAndGetCoarser) {
   for (const char* name : {"liver.off", "spot.off", "heart.off"}) {
     CoarsenOptions options;
     options.judge_after_smoothing = true;
-    check_coarse_surface(load(name), options, name);
-    const size_t placed = coarsen(load(name), options).surface.points.size();
+    check_coarse_surface(dthex_test::read_bundled_mesh(name), options, name);
+    const size_t placed = coarsen(dthex_test::read_bundled_mesh(name), options).surface.points.size();
     CoarsenOptions in_place;
     in_place.judge_after_smoothing = false;
-    EXPECT_LT(placed, coarsen(load(name), in_place).surface.points.size()) << name;
+    EXPECT_LT(placed, coarsen(dthex_test::read_bundled_mesh(name), in_place).surface.points.size()) << name;
   }
 }
 
@@ -232,7 +232,7 @@ namespace {
 //! The bundled sphere (r = 1) with an inward copy at r = 0.97 as a cavity: a wall far thinner
 //! than the coarse edges, which tempts a vertex across it.
 TriSurface thin_spherical_shell() {
-  const TriSurface sphere = load("sphere728.off");
+  const TriSurface sphere = dthex_test::read_bundled_mesh("sphere728.off");
   TriSurface shell = sphere;
   const int n = int(sphere.points.size());
   for (const Vec3& p : sphere.points) shell.points.push_back(0.97 * p);
@@ -268,11 +268,11 @@ TEST(Coarsen, BundledMeshesStayValidWithoutCallbacksAndWithGlobalSmoothing) {
   CoarsenOptions plain;
   plain.edge_swap = false;
   plain.local_smoothing = false;
-  check_coarse_surface(load("liver.off"), plain, "liver, no callbacks");
+  check_coarse_surface(dthex_test::read_bundled_mesh("liver.off"), plain, "liver, no callbacks");
   CoarsenOptions global;
   global.local_smoothing = false;
   global.global_smoothing = true;
-  const TriSurface spot = load("spot.off");
+  const TriSurface spot = dthex_test::read_bundled_mesh("spot.off");
   const CoarsenResult r = coarsen(spot, global);
   EXPECT_GT(r.global_smoothing_iterations, 0u);
   EXPECT_TRUE(self_intersections(r.surface).empty());
@@ -336,7 +336,7 @@ TEST(Coarsen, CtFemurStaysValid) {
     monotone = monotone && f >= last_progress && f <= 1.0;
     last_progress = f;
   };
-  check_coarse_surface(load("femur_proximal_ct.off"), options, "femur_proximal_ct");
+  check_coarse_surface(dthex_test::read_bundled_mesh("femur_proximal_ct.off"), options, "femur_proximal_ct");
   EXPECT_TRUE(monotone);
   EXPECT_DOUBLE_EQ(last_progress, 1.0);
 }
@@ -380,7 +380,7 @@ double largest_turn_from_input(const TriSurface& coarse, const TriSurface& input
 // (60 degrees by default) no collapse makes a triangle turn that far from the input, and
 // the surface stays valid.
 TEST(Coarsen, SurfaceDeviationBoundKeepsTrianglesFacingTheInput) {
-  const TriSurface input = load("spot.off");
+  const TriSurface input = dthex_test::read_bundled_mesh("spot.off");
   CoarsenOptions bounded;
   bounded.judge_after_smoothing = true;
   CoarsenOptions unbounded = bounded;
@@ -401,7 +401,7 @@ TEST(Coarsen, SurfaceDeviationBoundKeepsTrianglesFacingTheInput) {
 // no triangle turned further from the input than the surface bound allows, though the rough
 // pass itself does not test that bound.
 TEST(Coarsen, RoughPassDoesMostCollapsesAndGivesTheSameKindOfSurface) {
-  const TriSurface input = load("femur_proximal_ct.off");
+  const TriSurface input = dthex_test::read_bundled_mesh("femur_proximal_ct.off");
   CoarsenOptions full;
   full.rough_pass_from_vertices = 0;
   CoarsenOptions rough;
@@ -424,7 +424,7 @@ TEST(Coarsen, RoughPassDoesMostCollapsesAndGivesTheSameKindOfSurface) {
 // input was prepared for (the run that takes the halves cut ahead), at another (whose sizes
 // are made again from the radii) and with the thickness cap.
 TEST(Coarsen, PreparedInputGivesWhatEachRunMakesAlone) {
-  const TriSurface input = load("vertebra_L1.off");
+  const TriSurface input = dthex_test::read_bundled_mesh("vertebra_L1.off");
   CoarsenOptions prepared_for;
   ASSERT_GE(input.points.size(), prepared_for.split_from_vertices);  // coarsened in halves
   CoarsenOptions coarser = prepared_for;

@@ -11,6 +11,7 @@
 #include <dthex/modules/DTHexGeometry.hh>
 
 #include "boundary_fixtures.h"
+#include "bundled_meshes.h"
 
 #include <gtest/gtest.h>
 
@@ -22,7 +23,6 @@ using namespace dthex;
 
 namespace {
 
-TriSurface load(const std::string& name) { return read_surface(std::string(DTHEX_SOURCE_DIR) + "/meshes/" + name); }
 
 //! The input as the coarsening prepares it: features marked, a size per vertex (its index,
 //! so a size that lands on the wrong vertex is seen).
@@ -67,7 +67,7 @@ struct GivenExtras {
 TEST(SplitInHalves, HalvesCoverTheMeshMeetOnALockedCutAndJoinBack) {
   for (const char* name : {"femur_proximal_ct.off", "heart.off", "vertebra_L1.off"}) {
     SCOPED_TRACE(name);
-    const TriSurface surface = load(name);
+    const TriSurface surface = dthex_test::read_bundled_mesh(name);
     const SurfaceMesh whole = prepared(surface);
     SurfaceHalves split;
     ASSERT_TRUE(split_in_halves(whole, split));
@@ -134,7 +134,7 @@ TEST(SplitInHalves, NothingToSplitIsRefused) {
 TEST(SplitInHalves, CoarseningInHalvesMatchesOneRun) {
   for (const char* name : {"femur_proximal_ct.off", "heart.off"}) {
     SCOPED_TRACE(name);
-    const TriSurface input = load(name);
+    const TriSurface input = dthex_test::read_bundled_mesh(name);
     CoarsenOptions halves, whole;
     whole.split_from_vertices = 0;
     const CoarsenResult a = coarsen(input, halves), b = coarsen(input, whole);
@@ -161,7 +161,7 @@ namespace {
 
 //! The heart and a copy of it beside it along its longest extent, twice its length away.
 TriSurface two_hearts() {
-  const TriSurface heart = load("heart.off");
+  const TriSurface heart = dthex_test::read_bundled_mesh("heart.off");
   Eigen::AlignedBox3d box;
   for (const Vec3& p : heart.points) box.extend(p);
   int axis = 0;
@@ -201,7 +201,7 @@ TEST(SplitInHalves, TwoSeparateBodiesCoarsenedInHalvesStayTwo) {
   EXPECT_EQ(both.cut_vertices, 0u);
   CoarsenOptions whole;
   whole.split_from_vertices = 0;
-  const double one = double(coarsen(load("heart.off"), whole).surface.triangles.size());
+  const double one = double(coarsen(dthex_test::read_bundled_mesh("heart.off"), whole).surface.triangles.size());
   TriSurface coarse = both.surface;
   SurfaceStats stats;
   ASSERT_NO_THROW(stats = verify_surface(coarse, "two hearts"));
@@ -212,7 +212,7 @@ TEST(SplitInHalves, TwoSeparateBodiesCoarsenedInHalvesStayTwo) {
 // The coarsening's repair rounds pass their sizes and extra locks instead of copying the mesh:
 // the halves carry them, and the joined mesh keeps the extra locks but not the cut's.
 TEST(SplitInHalves, GivenSizesAndLocksTravelWithTheirVertices) {
-  const SurfaceMesh whole = prepared(load("heart.off"));
+  const SurfaceMesh whole = prepared(dthex_test::read_bundled_mesh("heart.off"));
   const GivenExtras given(whole.n_vertices(), 7);
   const std::vector<double>& sizes = given.sizes;
   const std::vector<char>& locked = given.locked;
