@@ -284,14 +284,21 @@ ChooseEpsReport choose_eps_for_nodes(const TriSurface& input, const PipelineOpti
   };
   // With choose_dice, `dice` is then the last dicing tried: none reaches the target.
   const std::string with_dice = std::string(options.choose_dice ? " even" : "") + " with --dice " + std::to_string(dice);
-  // Between two dicings' ranges (a thin-walled input keeps many nodes at any eps).
+  // Between two dicings' ranges (a thin-walled input keeps many nodes at any eps). A smaller
+  // --hmin lets the fine end keep more of the input's vertices (the coarsening adds none), a
+  // larger --max-edge-ratio the coarse end fewer; --hmax moves neither end the right way.
   for (int d = 1; options.choose_dice && d < kMaxChosenDice; ++d)
     if (double(target) > 1.1 * double(diced_thex_nodes(finest, d)) &&
-        double(target) < 0.9 * double(diced_thex_nodes(*coarsest, d + 1)))
+        double(target) < 0.9 * double(diced_thex_nodes(*coarsest, d + 1))) {
+      std::ostringstream ratio;
+      ratio << options.max_edge_ratio;
       throw unreachable("it lies between what --dice " + std::to_string(d) + " reaches (at most about " +
                         std::to_string(diced_thex_nodes(finest, d)) + " nodes) and what --dice " +
                         std::to_string(d + 1) + " needs (at least " +
-                        std::to_string(diced_thex_nodes(*coarsest, d + 1)) + "); use --hmin or --hmax to widen them");
+                        std::to_string(diced_thex_nodes(*coarsest, d + 1)) +
+                        "); a smaller --hmin raises the first, up to what the input's own vertices give, and a "
+                        "larger --max-edge-ratio (now " + ratio.str() + ") lowers the second");
+    }
   if (double(target) > 1.1 * double(most))
     throw unreachable("at most about " + std::to_string(most) + " nodes are reachable" + with_dice + " (eps " +
                       std::to_string(fine_eps) + ", sizes floored at --hmin); use a " + (dice < kMaxChosenDice ? "larger --dice or " : "") +

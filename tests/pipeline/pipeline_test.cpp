@@ -105,21 +105,39 @@ TEST(PipelineEpsFallback, TargetNodesSearchTakesAFailedCoarseningAsTooCoarse) {
   EXPECT_NEAR(double(result.hexes.nodes.size()), double(options.target_nodes), 0.1 * double(options.target_nodes));
 }
 
-// The shell keeps about 11,400 nodes with dice 1 at every eps and several times that with
-// dice 2: a budget between the two is refused naming both ranges, not "even with --dice 1".
-TEST(PipelineEpsFallback, TargetNodesBetweenTwoDicingsIsRefusedNamingBoth) {
+// The shell keeps about 11,000 nodes with dice 1 at every eps and several times that with
+// dice 2: a budget between the two is refused naming both ranges, not "even with --dice 1",
+// and the options that move them: a larger --max-edge-ratio does lower the second (not
+// --hmax, which an earlier wording named and which moves neither the right way).
+TEST(PipelineEpsFallback, TargetNodesBetweenTwoDicingsIsRefusedNamingBothAndTheWayOut) {
   const std::string path = eccentric_shell_file();
-  PipelineOptions options = fast_options();
-  options.target_nodes = 30000;
-  Progress quiet;
-  try {
-    run_pipeline(path, options, quiet);
-    FAIL() << "no InputError";
-  } catch (const InputError& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find("between what --dice 1 reaches"), std::string::npos) << message;
-    EXPECT_NE(message.find("what --dice 2 needs"), std::string::npos) << message;
-  }
+  auto refusal = [&](double max_edge_ratio) -> std::string {
+    PipelineOptions options = fast_options();
+    options.target_nodes = 30000;
+    options.max_edge_ratio = max_edge_ratio;
+    Progress quiet;
+    try {
+      run_pipeline(path, options, quiet);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "no InputError";
+  };
+  // The count after "(at least ": what the larger dicing needs.
+  auto least = [](const std::string& message) {
+    const size_t at = message.find("(at least ");
+    return at == std::string::npos ? 0.0 : std::stod(message.substr(at + 10));
+  };
+  const std::string message = refusal(PipelineOptions().max_edge_ratio);
+  EXPECT_NE(message.find("between what --dice 1 reaches"), std::string::npos) << message;
+  EXPECT_NE(message.find("what --dice 2 needs"), std::string::npos) << message;
+  EXPECT_NE(message.find("smaller --hmin"), std::string::npos) << message;
+  EXPECT_NE(message.find("larger --max-edge-ratio (now 1.41421)"), std::string::npos) << message;
+  EXPECT_EQ(message.find("--hmax"), std::string::npos) << message;
+  const std::string looser = refusal(4.0);
+  ASSERT_GT(least(message), 0.0) << message;
+  ASSERT_GT(least(looser), 0.0) << looser;
+  EXPECT_LT(least(looser), 0.95 * least(message)) << message << "\n" << looser;
 }
 
 // A shared CAD part (remeshed first, as a CAD export is) whose coarsening still
