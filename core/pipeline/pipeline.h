@@ -74,8 +74,8 @@ struct PipelineOptions {
   bool thex_only = false;           //!< classic THex of the input: no coarsening, dicing, projection
   bool project = true;              //!< put the boundary back on the input surface
   bool strict = false;              //!< fail (MeshingError) if a hex is inverted at a corner or a Gauss point
-  //! Hexes the local smoother leaves below scaled Jacobian 0.2 get a region repair
-  //! (repair_worst_hexes.h); off only to measure what it brings.
+  //! Where the smoother and the regions leave a hex inverted, the hexes below scaled Jacobian
+  //! 0.2 get a region repair (repair_worst_hexes.h); off only to measure what it brings.
   bool repair_worst_hexes = true;
   //! How far (a fraction of the input's bounding-box diagonal) the nodes of a knife edge (a
   //! convex crease under 30 degrees) may slide off it; 0 keeps knife edges sharp. See

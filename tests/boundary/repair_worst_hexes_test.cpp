@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/boundary/repair_worst_hexes.h>
 
+#include <dthex/mesh/node_constraints.h>
 #include <dthex/mesh/quality.h>
+#include <dthex/mesh/triangle_bvh.h>
 #include <dthex/pipeline/pipeline.h>
 
 #include "boundary_fixtures.h"
@@ -41,12 +43,14 @@ bool has_stage(const PipelineResult& r, const std::string& name) {
 
 }  // namespace
 
-// At a 16-degree knife edge the one-node-at-a-time smoother stalls below 0.2 (measured: 0.10;
-// 0.13 at 20 degrees, which behaves the same). Whatever the region repair reaches there, the
-// edge is a feature and stays: with its nodes free to slide, the repair lifted every hex above
-// 0.29 by sliding them down the faces, which cut the edge off (Hausdorff 27% of the
-// bounding-box diagonal, volume -15%). And it never ends below where the smoother left the mesh.
-TEST(RepairWorstHexes, KeepsAKnifeEdgeAndNeverEndsWorse) {
+// At a 16-degree knife edge the smoother and the regions stall below 0.2 (measured: 0.103),
+// every hex valid. The pipeline repairs only where a hex is inverted: from a valid minimum its
+// region solve has ended lower in every case measured (here 0.045, undone), so it does not run,
+// and the mesh is the one without the repair. Run on that mesh anyway, the repair keeps the
+// knife edge (with its nodes free to slide it once lifted every hex above 0.29 by sliding them
+// down the faces, which cut the edge off: Hausdorff 27% of the bounding-box diagonal, volume
+// -15%) and never leaves it below where the smoother left it.
+TEST(RepairWorstHexes, RunsOnlyWhereAHexIsInvertedAndKeepsAKnifeEdge) {
   const std::string path = write_wedge(16.0);
   Progress quiet;
   PipelineOptions without;
@@ -55,14 +59,24 @@ TEST(RepairWorstHexes, KeepsAKnifeEdgeAndNeverEndsWorse) {
   const PipelineResult repaired = run_pipeline(path, PipelineOptions{}, quiet);
 
   ASSERT_LT(alone.quality.scaled_jacobian_stats.min, 0.2);
+  ASSERT_GT(alone.quality.scaled_jacobian_stats.min, 0.0);
   EXPECT_FALSE(has_stage(alone, "repair worst"));
-  EXPECT_TRUE(has_stage(repaired, "repair worst"));
-  EXPECT_GE(repaired.quality.scaled_jacobian_stats.min, alone.quality.scaled_jacobian_stats.min);
-  EXPECT_EQ(repaired.quality.inverted, 0u);
-  EXPECT_TRUE(repaired.conforming);
-  EXPECT_LE(repaired.hausdorff, 0.01 * repaired.input_summary.bbox_diagonal);
-  EXPECT_NEAR(repaired.hex_volume, repaired.input_summary.volume, 0.02 * repaired.input_summary.volume);
-  EXPECT_EQ(repaired.hexes.nodes.size(), alone.hexes.nodes.size());  // it moves nodes, it adds none
+  EXPECT_FALSE(has_stage(repaired, "repair worst"));
+  EXPECT_EQ(repaired.hexes.nodes, alone.hexes.nodes);
+
+  HexMesh mesh = alone.hexes;
+  const NodeConstraints constraints = node_constraints(mesh, alone.coarse);
+  RepairWorstHexesOptions options;
+  options.constraints = &constraints;
+  const TriangleBvh input(alone.input);
+  const RepairWorstHexesReport report = repair_worst_hexes(mesh, input, options);
+  EXPECT_GT(report.below_before, 0u);
+  EXPECT_GE(min_scaled_jacobian(mesh), alone.quality.scaled_jacobian_stats.min);
+  EXPECT_EQ(mesh.nodes.size(), alone.hexes.nodes.size());  // it moves nodes, it adds none
+  // Every boundary node within 1% of the diagonal of the input: the edge is not cut off.
+  for (size_t v = 0; v < mesh.nodes.size(); ++v)
+    if (mesh.is_boundary_node(int(v)))
+      EXPECT_LE(std::sqrt(input.closest_point(mesh.nodes[v]).distance_sq), 0.01 * alone.input_summary.bbox_diagonal) << "node " << v;
 }
 
 // A mesh with no hex below the threshold is not touched, not even by a rounding.
