@@ -672,7 +672,7 @@ void smooth_and_repair_worst(Meshing& m, const NodeConstraints& constraints) {
   // armadillo variant -0.024 -> 0.032). Hexes left below the threshold make this mesh poor: if
   // thin walls are then the likely cause, run_pipeline meshes again sized by thickness whatever
   // the repair reaches, so the repair waits for that mesh.
-  if (options.repair_worst_hexes && min_now <= 0 && min_now < repair_options.threshold &&
+  if (options.repair_worst_hexes && min_now <= 0 &&
       !(thickness_retry_possible(options) && m.thin_walls_likely()))
     m.stage("repair worst", [&] {
       RepairWorstStageReport report;

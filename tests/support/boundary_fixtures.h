@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Small procedural meshes for the projection and untangling tests: a structured hex block,
 // a subdivided box surface, a banded sphere, the tets of a star-shaped surface around its centre
-// (the paper's sphere case), and labelling of boundary nodes with their coarse facet.
+// (the paper's sphere case), labelling of boundary nodes with their coarse facet, and the
+// smallest scaled Jacobian of a hex mesh.
 #pragma once
 
 #include <dthex/mesh/quality.h>
