@@ -283,22 +283,21 @@ ChooseEpsReport choose_eps_for_nodes(const TriSurface& input, const PipelineOpti
     return InputError("--target-nodes " + std::to_string(target) + ": " + input_path + ": " + why);
   };
   // With choose_dice, `dice` is then the last dicing tried: none reaches the target.
+  std::ostringstream max_edge_ratio;
+  max_edge_ratio << options.max_edge_ratio;
   const std::string with_dice = std::string(options.choose_dice ? " even" : "") + " with --dice " + std::to_string(dice);
   // Between two dicings' ranges (a thin-walled input keeps many nodes at any eps). A smaller
   // --hmin lets the fine end keep more of the input's vertices (the coarsening adds none), a
   // larger --max-edge-ratio the coarse end fewer; --hmax moves neither end the right way.
   for (int d = 1; options.choose_dice && d < kMaxChosenDice; ++d)
     if (double(target) > 1.1 * double(diced_thex_nodes(finest, d)) &&
-        double(target) < 0.9 * double(diced_thex_nodes(*coarsest, d + 1))) {
-      std::ostringstream ratio;
-      ratio << options.max_edge_ratio;
+        double(target) < 0.9 * double(diced_thex_nodes(*coarsest, d + 1)))
       throw unreachable("it lies between what --dice " + std::to_string(d) + " reaches (at most about " +
                         std::to_string(diced_thex_nodes(finest, d)) + " nodes) and what --dice " +
                         std::to_string(d + 1) + " needs (at least " +
                         std::to_string(diced_thex_nodes(*coarsest, d + 1)) +
                         "); a smaller --hmin raises the first, up to what the input's own vertices give, and a "
-                        "larger --max-edge-ratio (now " + ratio.str() + ") lowers the second");
-    }
+                        "larger --max-edge-ratio (now " + max_edge_ratio.str() + ") lowers the second");
   if (double(target) > 1.1 * double(most))
     throw unreachable("at most about " + std::to_string(most) + " nodes are reachable" + with_dice + " (eps " +
                       std::to_string(fine_eps) + ", sizes floored at --hmin); use a " + (dice < kMaxChosenDice ? "larger --dice or " : "") +
@@ -307,14 +306,11 @@ ChooseEpsReport choose_eps_for_nodes(const TriSurface& input, const PipelineOpti
   // edge longer than --max-edge-ratio x its size: that ratio, not --hmax (half the diagonal by
   // default, which bounds flat parts only), is what keeps the coarse surface finer (the bundled
   // liver: 837 nodes at the least, 507 with --max-edge-ratio 3, 837 with --hmax 100).
-  if (double(target) < 0.9 * double(least)) {
-    std::ostringstream ratio;
-    ratio << options.max_edge_ratio;
+  if (double(target) < 0.9 * double(least))
     throw unreachable("at least " + std::to_string(least) + " nodes are needed" + with_dice + " (eps " +
-                      std::to_string(coarse_eps) + "; the topology and --max-edge-ratio " + ratio.str() +
+                      std::to_string(coarse_eps) + "; the topology and --max-edge-ratio " + max_edge_ratio.str() +
                       " bound the coarsening); use a " + (dice > 1 ? "smaller --dice or " : "") +
                       "larger --max-edge-ratio (3 lets an edge grow to 3 times its curvature size)");
-  }
   double best_eps = fine_eps;
   size_t best = most;
   auto consider = [&](double eps, size_t nodes) {
