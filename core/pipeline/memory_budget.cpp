@@ -46,6 +46,21 @@ std::string memory_text(uint64_t bytes) {
 
 }  // namespace
 
+// GCC says __SANITIZE_ADDRESS__, clang (the sanitizer build's) __has_feature.
+bool built_with_address_sanitizer() {
+#if defined(__SANITIZE_ADDRESS__)
+  return true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+  return true;
+#else
+  return false;
+#endif
+#else
+  return false;
+#endif
+}
+
 uint64_t virtual_size_bytes() {
   std::FILE* status = std::fopen("/proc/self/status", "r");
   if (!status) return 0;

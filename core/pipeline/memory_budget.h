@@ -28,20 +28,11 @@ uint64_t pipeline_peak_bytes(uint64_t triangles);
 constexpr uint64_t kPipelineFixedBytes = uint64_t(56) << 20;
 constexpr uint64_t kPipelineBytesPerInputTriangle = 448;
 
-//! Whether this build runs under AddressSanitizer, which reserves terabytes of address
+//! Whether the library was built with AddressSanitizer, which reserves terabytes of address
 //! space: an address-space limit (RLIMIT_AS) would stop it, and its shadow memory is not in
-//! the model above. GCC says __SANITIZE_ADDRESS__, clang (the sanitizer build's) __has_feature.
-#if defined(__SANITIZE_ADDRESS__)
-inline constexpr bool kAddressSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-inline constexpr bool kAddressSanitizer = true;
-#else
-inline constexpr bool kAddressSanitizer = false;
-#endif
-#else
-inline constexpr bool kAddressSanitizer = false;
-#endif
+//! the model above. A function, not a constant, so that code compiled without the sanitizer
+//! (the sanitizer build's test files) gets the library's answer.
+bool built_with_address_sanitizer();
 
 //! Throws InputError "<name>: <what> needs about X GB of memory, but only Y GB are
 //! available" when bytes_needed exceeds available_memory_bytes().

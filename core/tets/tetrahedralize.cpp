@@ -88,7 +88,7 @@ bool write_all(int fd, const void* data, size_t bytes) {
 void confine_child(pid_t parent, uint64_t address_space_cap) {
   ::prctl(PR_SET_PDEATHSIG, SIGKILL);
   if (::getppid() != parent) ::_exit(kExitUnknownException);  // the parent died before prctl
-  if (!kAddressSanitizer && address_space_cap > 0) {
+  if (!built_with_address_sanitizer() && address_space_cap > 0) {
     rlimit limit{rlim_t(address_space_cap), rlim_t(address_space_cap)};
     ::setrlimit(RLIMIT_AS, &limit);
   }

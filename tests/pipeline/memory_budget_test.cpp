@@ -51,7 +51,7 @@ TEST(MemoryBudget, RefusesMoreThanTheMachineHasWithAClearMessage) {
 // subdivided femurs the line was fitted to) peaks within a third of what the model says,
 // so a model off by a large factor (as a guess per triangle can be) fails here.
 TEST(MemoryBudget, ModelIsNearTheMeasuredPeakOfTheFemur) {
-  if (dthex::kAddressSanitizer) GTEST_SKIP() << "AddressSanitizer's shadow memory is not in the model";
+  if (dthex::built_with_address_sanitizer()) GTEST_SKIP() << "AddressSanitizer's shadow memory is not in the model";
   const uint64_t triangles = 72868;
   EXPECT_EQ(dthex::pipeline_peak_bytes(2 * triangles) - dthex::pipeline_peak_bytes(triangles),
             triangles * dthex::kPipelineBytesPerInputTriangle);
@@ -75,7 +75,7 @@ TEST(MemoryBudget, ModelIsNearTheMeasuredPeakOfTheFemur) {
 }
 
 TEST(MemoryBudget, ReaderRefusesASurfaceWhoseMeshingCannotFitUnderUlimitV) {
-  if (dthex::kAddressSanitizer) GTEST_SKIP() << "AddressSanitizer reserves terabytes of address space; RLIMIT_AS cannot be tested";
+  if (dthex::built_with_address_sanitizer()) GTEST_SKIP() << "AddressSanitizer reserves terabytes of address space; RLIMIT_AS cannot be tested";
   // 200000 triangles (a 10 MB binary STL) need about 150 MB to mesh by the budget; with
   // only 64 MB of address space left (ulimit -v), the reader must refuse them with a
   // message, not start and die of std::bad_alloc later.
