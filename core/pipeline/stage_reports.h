@@ -126,6 +126,14 @@ struct RepairWorstStageReport {
   size_t hexes = 0;
 };
 
+//! Stage "repair folds": the fold repair's report; or, where the input is meshed again at a
+//! finer eps anyway (PipelineOptions::finer_retry), the folds found and the repair left for
+//! the mesh that is kept (`deferred`: then only repair.faces_inside_before/after are set).
+struct RepairFoldsStageReport {
+  RepairBoundaryFoldsReport repair;
+  bool deferred = false;
+};
+
 //! Stage "slide on creases": the smoother's report, and whether the slide was undone because
 //! it folded boundary faces into the mesh (more of them inside it than before the slide).
 struct CreaseSlideStageReport {
@@ -153,6 +161,9 @@ struct MeshTryReport {
   size_t inverted = 0;
   double min_scaled_jacobian = 0;
   bool conforming = false;
+  //! Its boundary folds were counted but not repaired, since a finer try followed
+  //! (RepairFoldsStageReport::deferred); false once the mesh kept is repaired.
+  bool fold_repair_left = false;
 };
 
 //! Stage "predict thin walls" (PipelineOptions::thickness_retry): before the first mesh, the
@@ -177,7 +188,7 @@ using StageReport =
                  SplitSurfaceTetsReport, FlipWorstTetsReport, RelaxInteriorPointsReport, SplitCrowdedVerticesReport,
                  HexCountReport, ProjectReport, UntangleReport, LocalSmoothReport, OptimizeWorstRegionsReport, CreaseSlideStageReport,
                  RepairWorstStageReport,
-                 RepairBoundaryFoldsReport, MeasureReport, MeshTryReport, ThinWallPredictionReport>;
+                 RepairFoldsStageReport, MeasureReport, MeshTryReport, ThinWallPredictionReport>;
 
 struct StageRecord {
   std::string name;

@@ -263,6 +263,12 @@ std::string text(const RepairBoundaryFoldsReport& r) {
   return out.str();
 }
 
+std::string text(const RepairFoldsStageReport& s) {
+  if (!s.deferred) return text(s.repair);
+  return count_text("boundary faces", s.repair.faces_inside_before) +
+         " inside: repair left for the mesh kept (meshed again at a finer eps first)";
+}
+
 std::string text(const MeasureReport& r) {
   std::string out = count_text("inverted", r.inverted);
   if (r.boundary_faces_inside > 0) out += ", " + count_text("boundary faces", r.boundary_faces_inside) + " inside the mesh";
@@ -275,6 +281,7 @@ std::string text(const MeshTryReport& r) {
   out << "min scaled Jacobian " << std::setprecision(3) << r.min_scaled_jacobian;
   if (r.inverted) out << ", " << count_text("inverted", r.inverted);
   if (!r.conforming) out << ", not conforming";
+  if (r.fold_repair_left) out << " (fold repair left for a finer try)";
   return out.str();
 }
 
@@ -486,6 +493,12 @@ json fields(const RepairBoundaryFoldsReport& r) {
           {"time_limit_reached", r.time_limit_reached}};
 }
 
+json fields(const RepairFoldsStageReport& s) {
+  json j = fields(s.repair);
+  j["deferred"] = s.deferred;
+  return j;
+}
+
 json fields(const MeasureReport& r) {
   return {{"inverted", r.inverted},
           {"scaled_jacobian_below_0_2", r.below_0_2},
@@ -502,6 +515,7 @@ json fields(const MeshTryReport& r) {
     j["inverted"] = r.inverted;
     j["min_scaled_jacobian"] = r.min_scaled_jacobian;
     j["conforming"] = r.conforming;
+    j["fold_repair_left"] = r.fold_repair_left;
   }
   return j;
 }

@@ -163,7 +163,8 @@ TEST(PipelineEpsFallback, TargetNodesSearchPassesOverAFailingFineEnd) {
 
 // The bundled Spot at eps 0.21: its coarse surface is too coarse at the top of the head for the
 // boundary to be put back on the input cleanly, and the mesh ends with boundary faces folded
-// into it. The pipeline meshes it again at 0.7 x the eps, keeps the sound mesh, and says so.
+// into it. The pipeline meshes it again at 0.7 x the eps (leaving the first mesh's folds
+// unrepaired, since that mesh is not kept), keeps the sound mesh, and says so.
 TEST(PipelineFinerRetry, AnUnsoundMeshIsMadeAgainAtAFinerEpsAndTheSoundOneKept) {
   PipelineOptions options;
   options.eps = 0.21;
@@ -177,6 +178,8 @@ TEST(PipelineFinerRetry, AnUnsoundMeshIsMadeAgainAtAFinerEpsAndTheSoundOneKept) 
   const MeshTryReport& first = retry.tries[0];
   EXPECT_DOUBLE_EQ(first.eps, 0.21);
   ASSERT_TRUE(!first.conforming || first.inverted > 0) << "the mesh at eps 0.21 is sound now";
+  // Its folds were counted, not repaired: a finer try followed. The mesh kept has none left.
+  EXPECT_TRUE(first.fold_repair_left);
   EXPECT_NEAR(retry.tries[1].eps, 0.21 * 0.7, 1e-12);
   ASSERT_GE(retry.kept, 1u);
   EXPECT_DOUBLE_EQ(result.eps, retry.tries[retry.kept].eps);
@@ -188,6 +191,10 @@ TEST(PipelineFinerRetry, AnUnsoundMeshIsMadeAgainAtAFinerEpsAndTheSoundOneKept) 
   EXPECT_TRUE(checked.conforming());
   EXPECT_EQ(checked.boundary_faces_inside, 0u);
   EXPECT_GT(result.quality.scaled_jacobian_stats.min, 0.3);
+  EXPECT_FALSE(retry.tries[retry.kept].fold_repair_left);
+  const RepairFoldsStageReport* folds = result.stage_report<RepairFoldsStageReport>("repair folds");
+  ASSERT_NE(folds, nullptr);
+  EXPECT_FALSE(folds->deferred);
   // The unsound mesh is one stage line, before the kept mesh's own stages.
   const MeshTryReport* line = result.stage_report<MeshTryReport>("eps 0.21 try");
   ASSERT_NE(line, nullptr);
@@ -203,6 +210,7 @@ TEST(PipelineFinerRetry, AnUnsoundMeshIsMadeAgainAtAFinerEpsAndTheSoundOneKept) 
   EXPECT_EQ(j["coarse"]["finer_retry"]["tries"].size(), retry.tries.size());
   EXPECT_EQ(j["coarse"]["finer_retry"]["kept"], retry.kept);
   EXPECT_EQ(j["coarse"]["finer_retry"]["tries"][0]["conforming"], false);
+  EXPECT_EQ(j["coarse"]["finer_retry"]["tries"][0]["fold_repair_left"], true);
 }
 
 // The sets om_dthex writes with a result, found once for om_dthex and the benchmark: the
