@@ -281,7 +281,7 @@ std::string text(const MeshTryReport& r) {
   out << "min scaled Jacobian " << std::setprecision(3) << r.min_scaled_jacobian;
   if (r.inverted) out << ", " << count_text("inverted", r.inverted);
   if (!r.conforming) out << ", not conforming";
-  if (r.fold_repair_left) out << " (fold repair left for a finer try)";
+  if (r.fold_repair_left) out << "; fold repair left for a finer try";
   return out.str();
 }
 

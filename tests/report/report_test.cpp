@@ -154,6 +154,7 @@ TEST(ReportJson, TheFinerRetryIsFieldsAndALineInTheSummary) {
   unsound.eps = 0.4;
   unsound.inverted = 1;
   unsound.min_scaled_jacobian = -0.01;
+  unsound.fold_repair_left = true;
   failed.eps = 0.28;
   failed.failed = true;
   failed.failure = "tetgen: refused";
@@ -169,11 +170,13 @@ TEST(ReportJson, TheFinerRetryIsFieldsAndALineInTheSummary) {
   EXPECT_EQ(retry["kept"], 2);
   EXPECT_EQ(retry["tries"][0]["eps"], 0.4);
   EXPECT_EQ(retry["tries"][0]["inverted"], 1);
+  EXPECT_TRUE(retry["tries"][0]["fold_repair_left"].get<bool>());
+  EXPECT_FALSE(retry["tries"][2]["fold_repair_left"].get<bool>());
   EXPECT_TRUE(retry["tries"][1]["failed"].get<bool>());
   EXPECT_EQ(retry["tries"][1]["failure"], "tetgen: refused");
   EXPECT_EQ(retry["tries"][2]["min_scaled_jacobian"], 0.4);
   const std::string text = describe(r.finer_retry);
-  EXPECT_NE(text.find("the mesh at eps 0.4 was unsound (min scaled Jacobian -0.01, 1 inverted, not conforming)"),
+  EXPECT_NE(text.find("the mesh at eps 0.4 was unsound (min scaled Jacobian -0.01, 1 inverted, not conforming; fold repair left for a finer try)"),
             std::string::npos)
       << text;
   EXPECT_NE(text.find("eps 0.28 (failed: tetgen: refused)"), std::string::npos) << text;
