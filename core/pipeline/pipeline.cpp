@@ -877,8 +877,12 @@ double meshing_seconds(const PipelineResult& r, size_t shared_stages) {
 MeshTryReport mesh_again(const PipelineResult& result, PipelineResult& again, size_t shared_stages,
                          const TriangleBvh& input_bvh, const TriangleBvh& coarsening_bvh,
                          const PipelineOptions& options, Progress& progress, bool finer_try_follows) {
+  // What reading and verifying made, which every try shares: the search tree too, so the kept
+  // try still has it (input_bvh is that tree) and the safe repairs' report.
   again.input_path = result.input_path;
   again.input = result.input;
+  again.input_tree = result.input_tree;
+  again.repairs = result.repairs;
   again.input_summary = result.input_summary;
   again.remeshed = result.remeshed;
   again.stages.assign(result.stages.begin(), result.stages.begin() + long(shared_stages));
@@ -1095,7 +1099,9 @@ PipelineResult run_pipeline(const std::string& input_path, const PipelineOptions
   PipelineResult result = read_and_verify(input_path, progress, &input_tree, options);
   if (!input_tree) input_tree = std::make_unique<TriangleBvh>(result.input);
   result.input_tree = std::move(input_tree);
-  const TriangleBvh& input_bvh = *result.input_tree;
+  // Owned here too: a retry's result replaces `result`, and the tree must outlive every try.
+  const std::shared_ptr<const TriangleBvh> input_tree_held = result.input_tree;
+  const TriangleBvh& input_bvh = *input_tree_held;
   remesh_if_needed(result, input_bvh, options, progress);
   const std::unique_ptr<TriangleBvh> remeshed_bvh =
       result.remeshed.triangles.empty() ? nullptr : std::make_unique<TriangleBvh>(result.remeshed);

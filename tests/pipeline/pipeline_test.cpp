@@ -183,6 +183,11 @@ TEST(PipelineFinerRetry, AnUnsoundMeshIsMadeAgainAtAFinerEpsAndTheSoundOneKept) 
   EXPECT_NEAR(retry.tries[1].eps, 0.21 * 0.7, 1e-12);
   ASSERT_GE(retry.kept, 1u);
   EXPECT_DOUBLE_EQ(result.eps, retry.tries[retry.kept].eps);
+  // What reading and verifying made stays with the kept mesh: the input's search tree (the
+  // pipeline searches it until the end, and the writer's patches use it) and the repairs.
+  ASSERT_NE(result.input_tree, nullptr);
+  EXPECT_EQ(result.input_tree->size(), result.input.triangles.size());
+  EXPECT_TRUE(result.repairs.ran);
   EXPECT_EQ(retry.tries[retry.kept].min_scaled_jacobian, result.quality.scaled_jacobian_stats.min);
   // The kept mesh is sound, by the pipeline's measure and by the checker itself.
   EXPECT_EQ(result.quality.inverted, 0u);
