@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <memory>
 #include <unistd.h>
 
@@ -383,6 +384,22 @@ int main(int argc, char** argv) {
     if (cl.pipeline.repair == dthex::PipelineOptions::Repair::none &&
         (cl.pipeline.min_island_triangles > 0 || cl.pipeline.min_island_volume_fraction > 0))
       throw CLI::ValidationError("--min-island", "drops triangles, a repair: it needs --repair safe, not none");
+    if (cl.pipeline.h_min > 0 && cl.pipeline.h_max > 0 && cl.pipeline.h_min > cl.pipeline.h_max) {
+      std::ostringstream why;
+      why << cl.pipeline.h_min << " is larger than --hmax " << cl.pipeline.h_max
+          << ": the smallest coarse edge cannot be longer than the largest; lower --hmin or raise --hmax";
+      throw CLI::ValidationError("--hmin", why.str());
+    }
+    if (cl.pipeline.thex_only) {
+      std::string ignored;
+      for (const char* name : {"--eps", "--dice", "--target-nodes", "--hmin", "--hmax", "--thickness-ratio",
+                               "--max-edge-ratio", "--min-dihedral", "--knife-edge-slide", "--boundary-slack",
+                               "--no-project", "--no-finer-retry", "--global-smoothing"})
+        if (app.get_option(name)->count() > 0) ignored += std::string(ignored.empty() ? "" : ", ") + name;
+      if (!ignored.empty())
+        std::fprintf(stderr, "om_dthex: warning: --thex-only tet-meshes the input as it is, so %s %s no effect\n",
+                     ignored.c_str(), ignored.find(',') == std::string::npos ? "has" : "have");
+    }
     cl.pipeline.nested =
         nested == "material" ? dthex::PipelineOptions::Nested::material : dthex::PipelineOptions::Nested::cavity;
     cl.pipeline.remesh = remesh == "on"    ? dthex::PipelineOptions::Remesh::always

@@ -70,6 +70,11 @@ TEST(Cli, BadOptionValuesAreExit2NamingTheOption) {
     EXPECT_EQ(r.exit_code, 2) << c.args;
     EXPECT_NE(r.err.find(c.option), std::string::npos) << c.args << ": " << r.err;
   }
+  // Both sizes given and contradicting each other: refused, naming both and the way out (the
+  // sizing used to raise --hmax to --hmin without a word).
+  const CommandRun sizes = om_dthex(in + out + " --hmin 0.3 --hmax 0.05", dir);
+  EXPECT_EQ(sizes.exit_code, 2);
+  EXPECT_NE(sizes.err.find("--hmin: 0.3 is larger than --hmax 0.05"), std::string::npos) << sizes.err;
   const CommandRun unknown = om_dthex(in + " -o " + (dir / "o.xyz").string(), dir);
   EXPECT_EQ(unknown.exit_code, 2);
   EXPECT_NE(unknown.err.find("--output"), std::string::npos) << unknown.err;
@@ -77,6 +82,23 @@ TEST(Cli, BadOptionValuesAreExit2NamingTheOption) {
   EXPECT_EQ(folder.exit_code, 2);
   EXPECT_NE(folder.err.find("--output"), std::string::npos) << folder.err;
   EXPECT_EQ(entries_in(dir), 0u);
+}
+
+// --thex-only meshes the input as it is: the options of the coarsening, the dicing and the
+// fitting it does not use are named in a warning (the mesh is still the THex asked for), and
+// no warning comes without them.
+TEST(Cli, ThexOnlyNamesTheOptionsItIgnores) {
+  const fs::path dir = cli_scratch("thex_only_ignores");
+  const std::string in = dthex_test::bundled_mesh("icosahedron.off");
+  const CommandRun with = om_dthex(in + " -q --thex-only --eps 0.3 --dice 3 -o " + (dir / "a.vtu").string(), dir);
+  EXPECT_EQ(with.exit_code, 0) << with.err;
+  EXPECT_NE(with.err.find("warning: --thex-only tet-meshes the input as it is, so --eps, --dice have no effect"),
+            std::string::npos)
+      << with.err;
+  const CommandRun without = om_dthex(in + " -q --thex-only -o " + (dir / "b.vtu").string(), dir);
+  EXPECT_EQ(without.exit_code, 0) << without.err;
+  EXPECT_EQ(without.err.find("warning"), std::string::npos) << without.err;
+  EXPECT_EQ(read_bytes(dir / "a.vtu"), read_bytes(dir / "b.vtu"));
 }
 
 TEST(Cli, OpenSurfaceIsRefusedAndWritesNothing) {
