@@ -306,11 +306,31 @@ ChooseEpsReport choose_eps_for_nodes(const TriSurface& input, const PipelineOpti
   // edge longer than --max-edge-ratio x its size: that ratio, not --hmax (half the diagonal by
   // default, which bounds flat parts only), is what keeps the coarse surface finer (the bundled
   // liver: 837 nodes at the least, 507 with --max-edge-ratio 3, 837 with --hmax 100).
-  if (double(target) < 0.9 * double(least))
+  if (double(target) < 0.9 * double(least)) {
+    // A --hmax the user gave may be what holds the count (Spot with --dice 1: at least 4,169
+    // nodes, 44,875 with --hmax 0.05), or not at all (a --hmax above the automatic one): it is
+    // named when the coarsest eps without it gives fewer nodes.
+    size_t least_without_h_max = least;
+    if (options.h_max > 0) {
+      PipelineOptions automatic = options;
+      automatic.h_max = 0;
+      ChooseEpsReport ignored;
+      if (const std::optional<TetCounts> without = try_tet_counts(input, automatic, coarse_eps, ignored))
+        least_without_h_max = diced_thex_nodes(*without, dice);
+    }
+    const bool h_max_bounds = least_without_h_max < least;
+    std::ostringstream bounds;
+    bounds << "the topology" << (h_max_bounds ? ", " : " and ") << "--max-edge-ratio " << options.max_edge_ratio;
+    if (h_max_bounds) bounds << " and --hmax " << options.h_max << " (without it: " << least_without_h_max << ")";
+    std::vector<std::string> ways;
+    if (dice > 1) ways.push_back("a smaller --dice");
+    if (h_max_bounds) ways.push_back("a larger --hmax");
+    ways.push_back("a larger --max-edge-ratio (3 lets an edge grow to 3 times its curvature size)");
+    std::string way_out = ways[0];
+    for (size_t i = 1; i < ways.size(); ++i) way_out += (i + 1 == ways.size() ? " or " : ", ") + ways[i];
     throw unreachable("at least " + std::to_string(least) + " nodes are needed" + with_dice + " (eps " +
-                      std::to_string(coarse_eps) + "; the topology and --max-edge-ratio " + max_edge_ratio.str() +
-                      " bound the coarsening); use a " + (dice > 1 ? "smaller --dice or " : "") +
-                      "larger --max-edge-ratio (3 lets an edge grow to 3 times its curvature size)");
+                      std::to_string(coarse_eps) + "; " + bounds.str() + " bound the coarsening); use " + way_out);
+  }
   double best_eps = fine_eps;
   size_t best = most;
   auto consider = [&](double eps, size_t nodes) {

@@ -275,8 +275,8 @@ TEST(Cli, TargetNodesBelowDiceTwoChoosesDiceOne) {
 
 // A budget below what the coarsest eps gives is refused naming the bound that holds it, and
 // following the advice reaches it: the liver keeps at least 837 nodes at eps 0.9 with dice 1,
-// and --max-edge-ratio 3 (the message's way out) takes it to 600; --hmax, which the message
-// used to name, does not.
+// and --max-edge-ratio 3 (the message's way out) takes it to 600; --hmax 100, which the
+// message used to name, does not, and is named only where it holds the count.
 TEST(Cli, ATooSmallBudgetNamesTheWayOutAndTheWayOutWorks) {
   const fs::path dir = cli_scratch("too_small_budget");
   const std::string out = " -q -o " + (dir / "o.vtu").string();
@@ -288,6 +288,14 @@ TEST(Cli, ATooSmallBudgetNamesTheWayOutAndTheWayOutWorks) {
   EXPECT_FALSE(fs::exists(dir / "o.vtu"));
   const CommandRun hmax = om_dthex(dthex_test::bundled_mesh("liver.off") + " --target-nodes 600 --hmax 100" + out, dir);
   EXPECT_EQ(hmax.exit_code, 2) << "--hmax reaches the budget: the message may name it again";
+  EXPECT_EQ(hmax.err.find("--hmax"), std::string::npos) << "a --hmax that holds nothing is named: " << hmax.err;
+  // A small --hmax does hold it, and is named with the count without it.
+  const CommandRun small_hmax =
+      om_dthex(dthex_test::bundled_mesh("liver.off") + " --target-nodes 600 --hmax 0.2" + out, dir);
+  EXPECT_EQ(small_hmax.exit_code, 2);
+  EXPECT_NE(small_hmax.err.find("and --hmax 0.2 (without it: 837)"), std::string::npos) << small_hmax.err;
+  EXPECT_NE(small_hmax.err.find("use a larger --hmax or a larger --max-edge-ratio"), std::string::npos)
+      << small_hmax.err;
   const fs::path json = dir / "r.json";
   const CommandRun followed =
       om_dthex(dthex_test::bundled_mesh("liver.off") + " --target-nodes 600 --max-edge-ratio 3 --report " + json.string() + out, dir);
