@@ -394,7 +394,7 @@ int main(int argc, char** argv) {
       std::string ignored;
       for (const char* name : {"--eps", "--dice", "--target-nodes", "--hmin", "--hmax", "--thickness-ratio",
                                "--max-edge-ratio", "--min-dihedral", "--knife-edge-slide", "--boundary-slack",
-                               "--no-project", "--no-finer-retry", "--global-smoothing"})
+                               "--no-project", "--no-finer-retry", "--global-smoothing", "--remesh"})
         if (app.get_option(name)->count() > 0) ignored += std::string(ignored.empty() ? "" : ", ") + name;
       if (!ignored.empty())
         std::fprintf(stderr, "om_dthex: warning: --thex-only tet-meshes the input as it is, so %s %s no effect\n",

@@ -320,7 +320,7 @@ ChooseEpsReport choose_eps_for_nodes(const TriSurface& input, const PipelineOpti
     }
     const bool h_max_bounds = least_without_h_max < least;
     std::ostringstream bounds;
-    bounds << "the topology" << (h_max_bounds ? ", " : " and ") << "--max-edge-ratio " << options.max_edge_ratio;
+    bounds << "the topology" << (h_max_bounds ? ", " : " and ") << "--max-edge-ratio " << max_edge_ratio.str();
     if (h_max_bounds) bounds << " and --hmax " << options.h_max << " (without it: " << least_without_h_max << ")";
     std::vector<std::string> ways;
     if (dice > 1) ways.push_back("a smaller --dice");
