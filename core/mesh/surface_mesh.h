@@ -29,6 +29,16 @@ SurfaceMesh to_openmesh(const TriSurface& surface);
 //! As to_openmesh(), into an empty `mesh`: OpenMesh 9's meshes have no move assignment, so
 //! `existing = to_openmesh(s)` copies the whole mesh once more.
 void fill_openmesh(SurfaceMesh& mesh, const TriSurface& surface);
+//! fill_openmesh's way to the mesh OpenMesh's add_face makes, a triangle at a time, without
+//! add_face's search around each vertex for an edge (half of the time of reading a surface of
+//! millions of triangles): the edges are numbered first, in the order add_face creates them,
+//! the arrays sized once, and add_face (PolyConnectivity.cc, OpenMesh 9) is then replayed on
+//! them step by step: its checks, its re-linking of patches, its next-halfedge updates and its
+//! choice of each vertex's outgoing halfedge, so that every handle and link, and with them the
+//! order in which circulators visit a vertex's neighbours, end as add_face sets them. Into an
+//! empty `mesh`; false, with `mesh` partly built, at the first triangle add_face would refuse
+//! (fill_openmesh then names it) or one that repeats a vertex or names one out of range.
+bool replay_add_faces(SurfaceMesh& mesh, const TriSurface& surface);
 //! Copies the live (non-deleted) vertices and faces, compacting indices.
 TriSurface from_openmesh(const SurfaceMesh& mesh);
 
