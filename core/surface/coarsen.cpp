@@ -130,10 +130,10 @@ bool triangles_intersect(const TriSurface& s, int fa, int fb) {
       return e;
     };
     const auto ea = opposite(ta, tb), eb = opposite(tb, ta);
-    return segment_crosses_triangle(P(ea[0]), P(ea[1]), P(tb[0]), P(tb[1]), P(tb[2])) ||
-           segment_crosses_triangle(P(eb[0]), P(eb[1]), P(ta[0]), P(ta[1]), P(ta[2]));
+    return segment_crosses_triangle(P(ea[0]), P(ea[1]), P(tb[0]), P(tb[1]), P(tb[2]), kWithinRoundingOfPlane) ||
+           segment_crosses_triangle(P(eb[0]), P(eb[1]), P(ta[0]), P(ta[1]), P(ta[2]), kWithinRoundingOfPlane);
   }
-  return triangles_cross({P(ta[0]), P(ta[1]), P(ta[2])}, {P(tb[0]), P(tb[1]), P(tb[2])});
+  return triangles_cross({P(ta[0]), P(ta[1]), P(ta[2])}, {P(tb[0]), P(tb[1]), P(tb[2])}, kWithinRoundingOfPlane);
 }
 
 double bbox_diagonal(const TriSurface& s) {
@@ -401,6 +401,8 @@ CoarseningInput::CoarseningInput(const TriSurface& input, const CoarsenOptions& 
   features_ = mark_features(mesh_, feature_angle_deg_);
   made_eps_ = options.eps, made_h_min_ = options.h_min, made_h_max_ = options.h_max;
   made_gradation_ = options.gradation;
+  // Its loop runs on both cores; inside a section below it would run on one.
+  radii_ = osculating_radii(mesh_);
   // The sizes and the halves only read mesh_ from here on: one core each. An exception must
   // not leave the parallel region (out of memory there ended the program).
   cut_ahead = cut_ahead && options.split_from_vertices > 0 && mesh_.n_vertices() >= options.split_from_vertices;
@@ -412,7 +414,6 @@ CoarseningInput::CoarseningInput(const TriSurface& input, const CoarsenOptions& 
       const AutomaticSizeBounds automatic = automatic_size_bounds(mesh_);
       mean_edge_ = automatic.mean_edge;
       half_diagonal_ = automatic.half_diagonal;
-      radii_ = osculating_radii(mesh_);
       sizes_ = sizing_from_radii(mesh_, radii_, size_bounds(options), sizing_options(options));
     } catch (...) {
       failure[0] = std::current_exception();
