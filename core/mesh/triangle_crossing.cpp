@@ -3,19 +3,31 @@
 
 #include <dthex/numerics/signed_volume.h>
 
+#include <algorithm>
+#include <cmath>
+
 namespace dthex {
 
-bool segment_crosses_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const double dp = signed_volume6(a, b, c, p), dq = signed_volume6(a, b, c, q);
+bool segment_crosses_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c,
+                              double on_plane) {
+  double dp = signed_volume6(a, b, c, p), dq = signed_volume6(a, b, c, q);
+  // dp is |n| times p's distance from the plane (n = (b - a) x (c - a)).
+  if (on_plane > 0) {
+    const double largest = std::max({a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff(), c.cwiseAbs().maxCoeff(),
+                                   p.cwiseAbs().maxCoeff(), q.cwiseAbs().maxCoeff()});
+    const double within = on_plane * largest * (b - a).cross(c - a).norm();
+    if (std::abs(dp) <= within) dp = 0;
+    if (std::abs(dq) <= within) dq = 0;
+  }
   if ((dp > 0 && dq > 0) || (dp < 0 && dq < 0) || (dp == 0 && dq == 0)) return false;
   const double s0 = signed_volume6(p, q, a, b), s1 = signed_volume6(p, q, b, c), s2 = signed_volume6(p, q, c, a);
   return (s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0);
 }
 
-bool triangles_cross(const std::array<Vec3, 3>& A, const std::array<Vec3, 3>& B) {
+bool triangles_cross(const std::array<Vec3, 3>& A, const std::array<Vec3, 3>& B, double on_plane) {
   for (size_t k = 0; k < 3; ++k) {
-    if (segment_crosses_triangle(A[k], A[(k + 1) % 3], B[0], B[1], B[2])) return true;
-    if (segment_crosses_triangle(B[k], B[(k + 1) % 3], A[0], A[1], A[2])) return true;
+    if (segment_crosses_triangle(A[k], A[(k + 1) % 3], B[0], B[1], B[2], on_plane)) return true;
+    if (segment_crosses_triangle(B[k], B[(k + 1) % 3], A[0], A[1], A[2], on_plane)) return true;
   }
   return false;
 }
