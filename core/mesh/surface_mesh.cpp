@@ -178,9 +178,12 @@ bool replay_add_faces(SurfaceMesh& mesh, const TriSurface& surface) {
 
 void fill_openmesh(SurfaceMesh& mesh, const TriSurface& surface) {
   // The replay is the fast way to add_faces_one_by_one's mesh; where add_face refuses a face,
-  // that is run from scratch so that the error names the triangle as OpenMesh finds it.
-  if (mesh.n_vertices() == 0 && mesh.n_faces() == 0 && replay_add_faces(mesh, surface)) return;
-  mesh.clear();
+  // that is run from scratch so that the error names the triangle as OpenMesh finds it. A mesh
+  // that is not empty (against the contract) is added to as before, a face at a time.
+  if (mesh.n_vertices() == 0 && mesh.n_faces() == 0) {
+    if (replay_add_faces(mesh, surface)) return;
+    mesh.clear();
+  }
   add_faces_one_by_one(mesh, surface);
 }
 
