@@ -32,4 +32,19 @@ bool triangles_cross(const std::array<Vec3, 3>& A, const std::array<Vec3, 3>& B,
   return false;
 }
 
+namespace {
+Vec3 normal_of(const std::array<Vec3, 3>& t) { return (t[1] - t[0]).cross(t[2] - t[0]); }
+}  // namespace
+
+bool triangles_fold_onto_each_other(const std::array<Vec3, 3>& A, const std::array<Vec3, 3>& B) {
+  const Vec3 na = normal_of(A), nb = normal_of(B);
+  return na.dot(nb) < -(1.0 - kFoldedCosineMargin) * na.norm() * nb.norm();
+}
+
+double angle_between_sides_deg(const std::array<Vec3, 3>& A, const std::array<Vec3, 3>& B) {
+  const Vec3 na = normal_of(A), nb = normal_of(B);
+  // atan2 of |na x nb| and -na.nb keeps its precision near 0, where acos would not.
+  return std::atan2(na.cross(nb).norm(), -na.dot(nb)) * 180.0 / M_PI;
+}
+
 }  // namespace dthex

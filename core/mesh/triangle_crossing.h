@@ -2,7 +2,9 @@
 // Whether a segment or a triangle passes through a triangle, by orientation tests alone: the
 // coarsening's self-intersection check and the remeshing's thin-wall guard ask the same
 // question. The check counts ends within rounding of a plane as on it; the guard, stricter,
-// does not, so what the guard lets through the check passes too.
+// does not, so what the guard lets through the check passes too. And whether two triangles on
+// one edge fold onto each other: the input's verification and the coarsening's check ask that
+// alike, so that an input the verification accepts is not one no coarsening can pass.
 #pragma once
 
 #include <dthex/mesh/types.h>
@@ -28,5 +30,19 @@ bool segment_crosses_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const
 //! Closed triangles that meet do so along a segment with an end on the boundary of one of
 //! them, so this misses only coplanar overlaps.
 bool triangles_cross(const std::array<Vec3, 3>& A, const std::array<Vec3, 3>& B, double on_plane = 0);
+
+//! Two triangles on one edge fold onto each other when the cosine of the angle between their
+//! normals is below -(1 - kFoldedCosineMargin): their sides are less than 1.4e-5 radians
+//! (0.0008 degrees) apart. Such a fin is far thinner than the tet mesher tells apart across it
+//! (its tolerance is 1e-8 of the diagonal, and a fin's width shrinks to zero at its edge).
+constexpr double kFoldedCosineMargin = 1e-10;
+
+//! Do triangles A and B, which share an edge and are oriented alike (they traverse it in
+//! opposite directions), fold onto each other (kFoldedCosineMargin)? A flat fold, one lying on
+//! the other, is the limit; the test needs no exact arithmetic, as no sign decides it.
+bool triangles_fold_onto_each_other(const std::array<Vec3, 3>& A, const std::array<Vec3, 3>& B);
+
+//! The angle between the sides of two such triangles, in degrees (0: folded flat; 180: flat).
+double angle_between_sides_deg(const std::array<Vec3, 3>& A, const std::array<Vec3, 3>& B);
 
 }  // namespace dthex

@@ -114,12 +114,7 @@ bool triangles_intersect(const TriSurface& s, int fa, int fb) {
     for (int j : tb) shared += (i == j);
   auto P = [&](int v) -> const Vec3& { return s.points[size_t(v)]; };
   if (shared >= 3) return true;  // duplicate triangle
-  if (shared == 2) {
-    // Folded onto each other: normals (nearly) opposite.
-    const Vec3 na = (P(ta[1]) - P(ta[0])).cross(P(ta[2]) - P(ta[0]));
-    const Vec3 nb = (P(tb[1]) - P(tb[0])).cross(P(tb[2]) - P(tb[0]));
-    return na.dot(nb) < -(1.0 - 1e-10) * na.norm() * nb.norm();
-  }
+  if (shared == 2) return triangles_fold_onto_each_other({P(ta[0]), P(ta[1]), P(ta[2])}, {P(tb[0]), P(tb[1]), P(tb[2])});
   if (shared == 1) {
     // Only the edges opposite the shared vertex can cross the other triangle.
     auto opposite = [&](const std::array<int, 3>& t, const std::array<int, 3>& other) {

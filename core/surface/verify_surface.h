@@ -50,7 +50,9 @@ struct SurfaceStats {
 //! index, coincident corners, or area below 1e-12 of its longest edge squared); duplicate
 //! triangles (same vertex set); open surface (an edge of one triangle only) / non-manifold edge (on
 //! three or more; open edges are refused first); non-manifold vertex (its triangles form more than one fan);
-//! inconsistent orientation within a component; self-intersection (optional); zero volume
+//! inconsistent orientation within a component; folded edge (the two triangles on an edge
+//! whose sides lie under 0.0008 degrees apart, triangle_crossing.h; optional, with the next);
+//! self-intersection (optional); zero volume
 //! (a component enclosing less than 1e-9 of its bounding-box diagonal cubed); bodies too
 //! close (two components nearer than near_contact_tolerance, closest_triangle_pair.h).
 //! Each refusal also says how to get past it: an open surface names its holes (count, edges,

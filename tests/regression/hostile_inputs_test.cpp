@@ -92,6 +92,11 @@ std::vector<HostileCase> catalogue() {
   sliver.triangles[0] = {0, 2, 8};
   sliver.triangles.push_back({8, 2, 1});
   sliver.triangles.push_back({1, 0, 8});
+  // A square pyramid flattened until its sides lie 2e-7 radians from its base: no triangles
+  // cross, but the coarsening's check refuses the folds at every eps (minutes of retries).
+  Surface fin;
+  fin.points = {{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}, {1, 0.5, -1e-7}};
+  fin.triangles = {{0, 2, 1}, {0, 3, 2}, {0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}};
   const std::string binary_cube = binary_stl_bytes(cube());
   const std::string ascii_cube = ascii_stl_text(cube());
   const std::string ply_cube_header = "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\n"
@@ -133,6 +138,7 @@ std::vector<HostileCase> catalogue() {
        "Select Self Intersecting Faces"},
       {"OpenCubeNamesTheHoleAndTheTools", "open.off", bytes(off_text(open)), 2,
        "1 hole (loops of open boundary edges, 3 edges in all): hole 1 of 3 edges"},
+      {"NearlyFoldedFinAtOnce", "fin.off", bytes(off_text(fin)), 2, "fin.off: folded edge: 4 edges"},
       {"CubesTooCloseToTellApart", "close.off", bytes(off_text(join(cube(), cube(1 + 1e-9, 0, 0)))), 2,
        "bodies too close: component 0 (12 triangles"},
       {"CubesTooCloseSayHowToSeparateOrMerge", "close.off", bytes(off_text(join(cube(), cube(1 + 1e-9, 0, 0)))), 2,

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/io/read_surface.h>
+#include <dthex/surface/coarsen.h>
 #include <dthex/surface/verify_surface.h>
 
 #include <gtest/gtest.h>
@@ -193,11 +194,12 @@ TEST(VerifySurface, RefusesEachRuleNamingTheFirstElement) {
   flip(one_flipped, 9, 1);
   expect_refused(one_flipped, "inconsistent orientation", "triangles ");
 
-  // A doubly covered square with different diagonals: closed, manifold, consistent, flat.
+  // A doubly covered square with different diagonals: closed, manifold, consistent, flat;
+  // each of its outer edges is a fold (the self-intersections come after).
   TriSurface flat;
   flat.points = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
   flat.triangles = {{0, 1, 2}, {0, 2, 3}, {1, 0, 3}, {1, 3, 2}};
-  expect_refused(flat, "self-intersection", "triangle 0");
+  expect_refused(flat, "folded edge", "4 edges where the surface folds back onto itself, first triangle 0");
   dthex::VerifyOptions no_intersections;
   no_intersections.check_self_intersections = false;
   expect_refused(flat, "zero volume", "component 0", no_intersections);
@@ -505,7 +507,7 @@ TEST(VerifySurface, ACavityNearlyTouchingItsBodyIsTooClose) {
   expect_refused(s, "bodies too close", "component 0 (12 triangles");
 }
 
-TEST(VerifySurface, FoldedAdjacentTrianglesAreASelfIntersection) {
+TEST(VerifySurface, FoldedAdjacentTrianglesAreRefusedAsAFold) {
   // A square pyramid; then its apex is moved into the base plane, inside the base, so each
   // side triangle folds flat onto the base triangle it shares an edge with.
   TriSurface s;
@@ -514,7 +516,30 @@ TEST(VerifySurface, FoldedAdjacentTrianglesAreASelfIntersection) {
   TriSurface ok = s;
   EXPECT_NO_THROW(verify_surface(ok, "pyramid"));
   s.points[4] = Vec3(1, 0.5, 0);
-  expect_refused(s, "self-intersection", "triangle");
+  // The lowest pair: base triangle 0 and side 2 on edge 0-1, exactly on each other.
+  expect_refused(s, "folded edge", "4 edges where the surface folds back onto itself, first triangle 0 ");
+  expect_refused(s, "folded edge", "triangle 2 [0 (0, 0, 0), 1 (2, 0, 0), 4 (1, 0.5, 0)] on their shared edge");
+  expect_refused(s, "folded edge", "their sides 0 degrees apart");
+}
+
+TEST(VerifySurface, ANearlyFoldedFinIsRefusedAsTheCoarseningWouldRefuseIt) {
+  // The pyramid flattened until its sides are within 2e-7 radians of its base: not a
+  // self-intersection (no two triangles overlap), but a fin the coarsening's check refuses
+  // at every eps; the input's own check must say so, not let the run fail after minutes.
+  TriSurface s;
+  s.points = {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 2, 0), Vec3(0, 2, 0), Vec3(1, 0.5, -1e-7)};
+  s.triangles = {{0, 2, 1}, {0, 3, 2}, {0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}};
+  // The coarsening's own test flags its folds.
+  EXPECT_FALSE(self_intersections(s).empty());
+  expect_refused(s, "folded edge", "edges where the surface folds back onto itself, first triangle 0 ");
+  // The lowest pair, triangles 0 and 2 on edge 0-1: their sides 1e-7 / 0.5 radians apart.
+  expect_refused(s, "folded edge", "and triangle 2 [0 (0, 0, 0), 1 (2, 0, 0), 4 (1, 0.5, -1e-07)]");
+  expect_refused(s, "folded edge", "their sides 1.1e-05 degrees apart");
+  // With the apex 1e-3 below, the sides are at least 0.038 degrees apart: a thin wedge, but
+  // not a fold, and neither check refuses it.
+  s.points[4].z() = -1e-3;
+  EXPECT_TRUE(self_intersections(s).empty());
+  EXPECT_NO_THROW(verify_surface(s, "wedge"));
 }
 
 namespace {
