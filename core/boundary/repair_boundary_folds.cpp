@@ -530,12 +530,19 @@ RepairBoundaryFoldsReport repair_boundary_folds(HexMesh& mesh, const TriangleBvh
   repairer.set_folds(folds);
   for (bool off_surface : {false, true}) {
     if (off_surface && !(options.max_off_surface > 0)) break;
+    // Wider regions only while they pay: a ring count that removes no fold ends the phase
+    // (on a wall folded through, every further ring took as long again for nothing).
     for (int rings = options.rings; rings <= options.max_rings && folds.faces_inside > 0 && !repairer.out_of_time();
          ++rings) {
       const auto groups = fold_groups(mesh, folds, owners);
       report.regions = std::max(report.regions, groups.size());
+      const size_t inside_before = folds.faces_inside;
       for (const auto& seeds : groups) repairer.repair_region(seeds, rings, off_surface);
       folds = repairer.folds();
+      if (folds.faces_inside >= inside_before) {
+        ++report.phases_ended_without_gain;
+        break;
+      }
     }
   }
   folds = find_boundary_faces_inside(mesh, quads, owners, options.probe);

@@ -27,7 +27,7 @@ namespace dthex {
 struct RepairBoundaryFoldsOptions {
   //! Rings of hexes (through shared nodes) around the folded quads' hexes and the hexes
   //! that hold their probes whose nodes may move; grown one at a time up to `max_rings`
-  //! while folds remain.
+  //! while folds remain and the last ring count removed one (else the next phase starts).
   int rings = 1;
   int max_rings = 4;
   //! Sweeps over a region's nodes per ring count; fewer once no probe of its quads lies in a
@@ -58,6 +58,8 @@ struct RepairBoundaryFoldsReport {
   double region_min_scaled_jacobian_before = 1, region_min_scaled_jacobian_after = 1;
   bool undone = false;                  //!< the repair did not lower the count and was put back
   bool time_limit_reached = false;
+  //! Phases (on the surface, then off it) that ended early: a ring count removed no fold.
+  size_t phases_ended_without_gain = 0;
 };
 
 //! Finds the boundary quads of `mesh` (outward rings `quads`, hex `owners[i]` of quad i, as

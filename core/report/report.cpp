@@ -260,6 +260,8 @@ std::string text(const RepairBoundaryFoldsReport& r) {
     out << ", " << count_text("nodes moved", r.moved_nodes) << ", min scaled Jacobian around them "
         << r.region_min_scaled_jacobian_before << " -> " << r.region_min_scaled_jacobian_after;
   if (r.time_limit_reached) out << " (time limit reached)";
+  else if (r.faces_inside_after > 0 && r.phases_ended_without_gain > 0)
+    out << " (regions not widened further: a wider one removed no fold)";
   return out.str();
 }
 
@@ -490,7 +492,8 @@ json fields(const RepairBoundaryFoldsReport& r) {
           {"region_min_scaled_jacobian_before", r.region_min_scaled_jacobian_before},
           {"region_min_scaled_jacobian_after", r.region_min_scaled_jacobian_after},
           {"undone", r.undone},
-          {"time_limit_reached", r.time_limit_reached}};
+          {"time_limit_reached", r.time_limit_reached},
+          {"phases_ended_without_gain", r.phases_ended_without_gain}};
 }
 
 json fields(const RepairFoldsStageReport& s) {

@@ -110,6 +110,7 @@ TEST(RepairBoundaryFolds, RemovesTheFoldKeepingHexesValidAndFarNodesInPlace) {
   EXPECT_EQ(r.faces_inside_after, 0u);
   EXPECT_FALSE(r.undone);
   EXPECT_GT(r.moved_nodes, 0u);
+  EXPECT_EQ(r.phases_ended_without_gain, 0u);
   // The report's count is the truth, the scaled Jacobian is not below min(before, 0.2)...
   EXPECT_EQ(faces_inside(after), 0u);
   EXPECT_GE(dthex::testing::min_scaled_jacobian(after), std::min(dthex::testing::min_scaled_jacobian(before), 0.2));
@@ -151,4 +152,7 @@ TEST(RepairBoundaryFolds, LeavesTheMeshAsItWasWhenNothingCanMove) {
   EXPECT_EQ(r.faces_inside_after, 4u);
   EXPECT_EQ(r.moved_nodes, 0u);
   for (size_t v = 0; v < after.nodes.size(); ++v) EXPECT_EQ(after.nodes[v], before.nodes[v]);
+  // Both phases (on the surface, off it) stop after their first ring count: it removed no fold,
+  // so no wider region is tried.
+  EXPECT_EQ(r.phases_ended_without_gain, 2u);
 }
