@@ -862,12 +862,11 @@ void remesh_if_needed(PipelineResult& result, const TriangleBvh& input_bvh, cons
   });
 }
 
-// The order in which two meshes of one input are preferred: a conforming mesh, then fewer
-// inverted hexes, then the higher minimum scaled Jacobian.
-bool better_mesh(const PipelineResult& a, const PipelineResult& b) {
-  if (a.conforming != b.conforming) return a.conforming;
-  if (a.quality.inverted != b.quality.inverted) return a.quality.inverted < b.quality.inverted;
-  return a.quality.scaled_jacobian_stats.min > b.quality.scaled_jacobian_stats.min;
+// Whether the fold repair of `r` was left for a finer try (repair_folds): its folds are then
+// still there, to be repaired if the mesh is kept (repair_left_folds).
+bool fold_repair_left(const PipelineResult& r) {
+  const RepairFoldsStageReport* folds = r.stage_report<RepairFoldsStageReport>("repair folds");
+  return folds && folds->deferred;
 }
 
 MeshTryReport try_report(const PipelineResult& r) {
@@ -877,10 +876,12 @@ MeshTryReport try_report(const PipelineResult& r) {
   t.inverted = r.quality.inverted;
   t.min_scaled_jacobian = r.quality.scaled_jacobian_stats.min;
   t.conforming = r.conforming;
-  const RepairFoldsStageReport* folds = r.stage_report<RepairFoldsStageReport>("repair folds");
-  t.fold_repair_left = folds && folds->deferred;
+  t.fold_repair_left = fold_repair_left(r);
   return t;
 }
+
+// The order in which two meshes of one input are preferred (better_try).
+bool better_mesh(const PipelineResult& a, const PipelineResult& b) { return better_try(try_report(a), try_report(b)); }
 
 // The seconds of a mesh's own stages, after the first `shared_stages` (reading, verifying,
 // remeshing) that every try of an input shares.
@@ -973,8 +974,7 @@ bool sound_mesh(const PipelineResult& result) { return result.quality.inverted =
 // whose repair was left: its folds are repaired and it is measured again.
 void repair_left_folds(PipelineResult& result, const TriangleBvh& input_bvh, const TriangleBvh& coarsening_bvh,
                        const PipelineOptions& used, Progress& progress) {
-  const RepairFoldsStageReport* left = result.stage_report<RepairFoldsStageReport>("repair folds");
-  if (!left || !left->deferred) return;
+  if (!fold_repair_left(result)) return;
   Meshing m{result, used, progress, input_bvh, coarsening_bvh, false, nullptr};
   Conformity conformity;
   repair_folds(m, conformity, false);
@@ -1168,6 +1168,15 @@ MeshSets find_result_sets(const PipelineResult& result, const std::string& input
   name_parts_by_input(sets, result.hexes, names.surface, names.triangle_name, names.names);
   add_user_sets(sets, result.hexes, user_sets);
   return sets;
+}
+
+bool better_try(const MeshTryReport& a, const MeshTryReport& b) {
+  if (a.failed || b.failed) return !a.failed && b.failed;
+  const bool repair_left = a.fold_repair_left || b.fold_repair_left;
+  if (!repair_left && a.conforming != b.conforming) return a.conforming;
+  if (a.inverted != b.inverted) return a.inverted < b.inverted;
+  if (a.conforming != b.conforming) return a.conforming;
+  return a.min_scaled_jacobian > b.min_scaled_jacobian;
 }
 
 }  // namespace dthex

@@ -166,6 +166,13 @@ struct MeshTryReport {
   bool fold_repair_left = false;
 };
 
+//! Is try `a` to be kept over try `b` (two meshes of one input)? A conforming mesh first, then
+//! fewer inverted hexes, then the higher minimum scaled Jacobian. Where the fold repair of
+//! either was left (fold_repair_left), that one is not conforming only for want of the repair,
+//! which turns no hex over: then the inverted hexes count first (with none and its folds left
+//! a mesh can still end sound; with inverted hexes it cannot). A failed try is never better.
+bool better_try(const MeshTryReport& a, const MeshTryReport& b);
+
 //! Stage "predict thin walls" (PipelineOptions::thickness_retry): before the first mesh, the
 //! vertices of the surface the coarsening starts from on walls several times thinner than
 //! their curvature size, and the sizing chosen from them.

@@ -604,10 +604,19 @@ std::string describe(const ThicknessRetryReport& r) {
 std::string describe(const FinerRetryReport& r) {
   if (!r.ran || r.tries.empty()) return "";
   std::ostringstream out;
-  out << "the mesh at eps " << std::setprecision(3) << r.tries.front().eps << " was unsound ("
-      << text(r.tries.front()) << "), so the input was meshed again at finer eps:";
+  // A sound mesh ends the tries, so a kept one that is sound before the last try is one
+  // whose fold repair was left and made it sound afterwards (its report is the repaired mesh's).
+  const MeshTryReport& kept = r.tries[r.kept];
+  const bool sound_once_repaired = r.kept + 1 < r.tries.size() && kept.inverted == 0 && kept.conforming;
+  out << "the mesh at eps " << std::setprecision(3) << r.tries.front().eps;
+  if (sound_once_repaired && r.kept == 0)
+    out << " had boundary faces folded into it (fold repair left for a finer try)";
+  else
+    out << " was unsound (" << text(r.tries.front()) << ")";
+  out << ", so the input was meshed again at finer eps:";
   for (size_t k = 1; k < r.tries.size(); ++k) out << "\n  eps " << r.tries[k].eps << " (" << text(r.tries[k]) << ")";
-  out << "\n  kept the mesh at eps " << r.tries[r.kept].eps;
+  out << "\n  kept the mesh at eps " << kept.eps;
+  if (sound_once_repaired) out << ", sound once its folds were repaired (" << text(kept) << ")";
   return out.str();
 }
 

@@ -162,6 +162,40 @@ TEST(PipelineEpsFallback, TargetNodesSearchOnACadPartMeshesItsFineEnd) {
   EXPECT_NEAR(double(result.hexes.nodes.size()), double(options.target_nodes), 0.1 * double(options.target_nodes));
 }
 
+// Which of two meshes of one input is kept. A mesh whose fold repair was left (a finer try
+// followed) is not conforming only for want of the repair, which turns no hex over: with no
+// inverted hex it is kept over a conforming one with inverted hexes (the flattened fandisk:
+// eps 0.1 with 2 folds left against 0.049 with 11 inverted; repaired, the first was sound).
+TEST(PipelineTries, InvertedHexesCountFirstAgainstAMeshWhoseFoldRepairWasLeft) {
+  MeshTryReport folds_left, inverted, folded_after_repair, sound, failed;
+  folds_left.eps = 0.1;
+  folds_left.min_scaled_jacobian = 0.0197;
+  folds_left.fold_repair_left = true;
+  inverted.eps = 0.049;
+  inverted.inverted = 11;
+  inverted.min_scaled_jacobian = -9.3e-9;
+  inverted.conforming = true;
+  EXPECT_TRUE(better_try(folds_left, inverted));
+  EXPECT_FALSE(better_try(inverted, folds_left));
+  // Repaired and still folded, a mesh is judged as it is: a conforming mesh first.
+  folded_after_repair = folds_left;
+  folded_after_repair.fold_repair_left = false;
+  EXPECT_TRUE(better_try(inverted, folded_after_repair));
+  EXPECT_FALSE(better_try(folded_after_repair, inverted));
+  // A sound mesh beats one whose repair was left, which may not end sound.
+  sound.conforming = true;
+  sound.min_scaled_jacobian = 0.01;
+  EXPECT_TRUE(better_try(sound, folds_left));
+  EXPECT_FALSE(better_try(folds_left, sound));
+  // Equal counts: the higher minimum scaled Jacobian; a failed try never.
+  MeshTryReport better_minimum = folds_left;
+  better_minimum.min_scaled_jacobian = 0.02;
+  EXPECT_TRUE(better_try(better_minimum, folds_left));
+  failed.failed = true;
+  EXPECT_FALSE(better_try(failed, inverted));
+  EXPECT_TRUE(better_try(inverted, failed));
+}
+
 // The bundled Spot at eps 0.21: its coarse surface is too coarse at the top of the head for the
 // boundary to be put back on the input cleanly, and the mesh ends with boundary faces folded
 // into it. The pipeline meshes it again at 0.7 x the eps (leaving the first mesh's folds

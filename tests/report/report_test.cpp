@@ -184,3 +184,29 @@ TEST(ReportJson, TheFinerRetryIsFieldsAndALineInTheSummary) {
   EXPECT_NE(summary_table(r, PipelineOptions{}).find("finer eps: " + text), std::string::npos);
   EXPECT_EQ(describe(FinerRetryReport{}), "");
 }
+
+TEST(ReportJson, AFirstMeshSoundOnceItsFoldsWereRepairedIsSaidSo) {
+  // The first mesh had folds only (repair left), the finer ones inverted hexes: the first was
+  // kept, repaired last, and its report is the repaired mesh's.
+  FinerRetryReport retry;
+  retry.ran = true;
+  MeshTryReport first, second;
+  first.eps = 0.1;
+  first.min_scaled_jacobian = 0.0197;
+  first.conforming = true;
+  second.eps = 0.07;
+  second.inverted = 10;
+  second.min_scaled_jacobian = -1.2e-8;
+  second.fold_repair_left = true;
+  retry.tries = {first, second};
+  retry.kept = 0;
+  const std::string text = describe(retry);
+  EXPECT_NE(text.find("the mesh at eps 0.1 had boundary faces folded into it (fold repair left for a finer try), "
+                      "so the input was meshed again"),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("was unsound"), std::string::npos) << text;
+  EXPECT_NE(text.find("kept the mesh at eps 0.1, sound once its folds were repaired (min scaled Jacobian 0.0197)"),
+            std::string::npos)
+      << text;
+}
