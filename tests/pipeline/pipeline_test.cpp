@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "mesh_tries.h"
 #include "scratch_dir.h"
 
 #include <filesystem>
@@ -167,30 +168,22 @@ TEST(PipelineEpsFallback, TargetNodesSearchOnACadPartMeshesItsFineEnd) {
 // inverted hex it is kept over a conforming one with inverted hexes (the flattened fandisk:
 // eps 0.1 with 2 folds left against 0.049 with 11 inverted; repaired, the first was sound).
 TEST(PipelineTries, InvertedHexesCountFirstAgainstAMeshWhoseFoldRepairWasLeft) {
-  MeshTryReport folds_left, inverted, folded_after_repair, sound, failed;
-  folds_left.eps = 0.1;
-  folds_left.min_scaled_jacobian = 0.0197;
-  folds_left.fold_repair_left = true;
-  inverted.eps = 0.049;
-  inverted.inverted = 11;
-  inverted.min_scaled_jacobian = -9.3e-9;
-  inverted.conforming = true;
+  using dthex::testing::mesh_try;
+  const MeshTryReport folds_left = mesh_try(0.1, 0, 0.0197, false, true);
+  const MeshTryReport inverted = mesh_try(0.049, 11, -9.3e-9, true, false);
   EXPECT_TRUE(better_try(folds_left, inverted));
   EXPECT_FALSE(better_try(inverted, folds_left));
   // Repaired and still folded, a mesh is judged as it is: a conforming mesh first.
-  folded_after_repair = folds_left;
-  folded_after_repair.fold_repair_left = false;
+  const MeshTryReport folded_after_repair = mesh_try(0.1, 0, 0.0197, false, false);
   EXPECT_TRUE(better_try(inverted, folded_after_repair));
   EXPECT_FALSE(better_try(folded_after_repair, inverted));
   // A sound mesh beats one whose repair was left, which may not end sound.
-  sound.conforming = true;
-  sound.min_scaled_jacobian = 0.01;
+  const MeshTryReport sound = mesh_try(0.07, 0, 0.01, true, false);
   EXPECT_TRUE(better_try(sound, folds_left));
   EXPECT_FALSE(better_try(folds_left, sound));
   // Equal counts: the higher minimum scaled Jacobian; a failed try never.
-  MeshTryReport better_minimum = folds_left;
-  better_minimum.min_scaled_jacobian = 0.02;
-  EXPECT_TRUE(better_try(better_minimum, folds_left));
+  EXPECT_TRUE(better_try(mesh_try(0.1, 0, 0.02, false, true), folds_left));
+  MeshTryReport failed;
   failed.failed = true;
   EXPECT_FALSE(better_try(failed, inverted));
   EXPECT_TRUE(better_try(inverted, failed));

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/report/report.h>
 #include "bundled_meshes.h"
+#include "mesh_tries.h"
 
 #include <nlohmann/json.hpp>
 
@@ -190,15 +191,8 @@ TEST(ReportJson, AFirstMeshSoundOnceItsFoldsWereRepairedIsSaidSo) {
   // kept, repaired last, and its report is the repaired mesh's.
   FinerRetryReport retry;
   retry.ran = true;
-  MeshTryReport first, second;
-  first.eps = 0.1;
-  first.min_scaled_jacobian = 0.0197;
-  first.conforming = true;
-  second.eps = 0.07;
-  second.inverted = 10;
-  second.min_scaled_jacobian = -1.2e-8;
-  second.fold_repair_left = true;
-  retry.tries = {first, second};
+  using dthex::testing::mesh_try;
+  retry.tries = {mesh_try(0.1, 0, 0.0197, true, false), mesh_try(0.07, 10, -1.2e-8, false, true)};
   retry.kept = 0;
   const std::string text = describe(retry);
   EXPECT_NE(text.find("the mesh at eps 0.1 had boundary faces folded into it (fold repair left for a finer try), "
