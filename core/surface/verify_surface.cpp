@@ -319,8 +319,9 @@ SurfaceStats verify_surface(TriSurface& surface, const std::string& name, const 
   // 9. folded edges: the two triangles on an edge lying (nearly) on each other, a fin the
   // coarsening's check refuses at every eps, and TetGen cannot tell apart.
   if (options.check_self_intersections) {
+    const size_t none = half_edges.size();
     size_t folded = 0;
-    size_t first = half_edges.size();  // the fold whose triangle pair is lowest
+    size_t first = none;  // the fold whose triangle pair is lowest (the same on any core count)
     auto tri_points = [&](int t) {
       const Triangle& tri = T[size_t(t)];
       return std::array<Vec3, 3>{P[size_t(tri[0])], P[size_t(tri[1])], P[size_t(tri[2])]};
@@ -329,11 +330,22 @@ SurfaceStats verify_surface(TriSurface& surface, const std::string& name, const 
       const int a = half_edges[k].triangle, b = half_edges[k + 1].triangle;
       return std::array<int, 2>{std::min(a, b), std::max(a, b)};
     };
-    for (size_t k = 0; k < half_edges.size(); k += 2)
-      if (triangles_fold_onto_each_other(tri_points(half_edges[k].triangle), tri_points(half_edges[k + 1].triangle))) {
+    auto lower = [&](size_t k, size_t than) { return k != none && (than == none || pair_of(k) < pair_of(than)); };
+    // Both cores: at 4.7M triangles the pass took 0.55 s on one.
+#pragma omp parallel if (nt > 20000)
+    {
+      size_t mine = none;
+#pragma omp for reduction(+ : folded) schedule(static)
+      for (long e = 0; e < long(half_edges.size() / 2); ++e) {
+        const size_t k = 2 * size_t(e);
+        if (!triangles_fold_onto_each_other(tri_points(half_edges[k].triangle), tri_points(half_edges[k + 1].triangle)))
+          continue;
         ++folded;
-        if (first == half_edges.size() || pair_of(k) < pair_of(first)) first = k;
+        if (lower(k, mine)) mine = k;
       }
+#pragma omp critical(dthex_verify_fold)
+      if (lower(mine, first)) first = mine;
+    }
     if (folded) {
       const auto [a, b] = pair_of(first);
       std::ostringstream angle;

@@ -1,9 +1,14 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/io/read_surface.h>
+#include <dthex/mesh/half_edges.h>
+#include <dthex/mesh/surface_mesh.h>
+#include <dthex/mesh/triangle_crossing.h>
 #include <dthex/surface/coarsen.h>
 #include <dthex/surface/verify_surface.h>
 
 #include <gtest/gtest.h>
+
+#include "icosphere.h"
 
 #include <algorithm>
 #include <cmath>
@@ -520,6 +525,48 @@ TEST(VerifySurface, FoldedAdjacentTrianglesAreRefusedAsAFold) {
   expect_refused(s, "folded edge", "4 edges where the surface folds back onto itself, first triangle 0 ");
   expect_refused(s, "folded edge", "triangle 2 [0 (0, 0, 0), 1 (2, 0, 0), 4 (1, 0.5, 0)] on their shared edge");
   expect_refused(s, "folded edge", "their sides 0 degrees apart");
+}
+
+TEST(VerifySurface, TheFoldsOfALargeSurfaceAreCountedAndTheLowestNamedOnBothCores) {
+  // An icosphere of 20,480 triangles (the pass runs on both cores from 20,000) with a fold
+  // made at two places far apart: across edge k of triangle t, the other triangle's third
+  // vertex is moved onto t's centroid, so that triangle lies flat on t. The lowest pair
+  // (triangle 0's, across its edge 1-2) lies late in the edges' order, the other (triangle
+  // 20000's, across its edge 0-1) early: each core's share finds one.
+  TriSurface s = dthex::from_openmesh(dthex_test::openmesh_icosphere<dthex::SurfaceMesh>(5));
+  ASSERT_EQ(s.triangles.size(), 20480u);
+  for (const auto& [t, k] : {std::pair{20000, 0}, std::pair{0, 1}}) {
+    const auto tri = s.triangles[size_t(t)];
+    const int u = tri[size_t(k)], w = tri[size_t((k + 1) % 3)], third = tri[size_t((k + 2) % 3)];
+    for (const auto& other : s.triangles) {
+      const bool across = std::count(other.begin(), other.end(), u) && std::count(other.begin(), other.end(), w) &&
+                          !std::count(other.begin(), other.end(), third);
+      if (!across) continue;
+      for (int v : other)
+        if (v != u && v != w)
+          s.points[size_t(v)] = (s.points[size_t(tri[0])] + s.points[size_t(tri[1])] + s.points[size_t(tri[2])]) / 3;
+      break;
+    }
+  }
+  // What one core finds, edge by edge: the count and the lowest pair.
+  size_t folded = 0;
+  std::array<int, 2> lowest{-1, -1};
+  const auto half_edges = dthex::sorted_half_edges(s.triangles);
+  auto corners = [&](int t) {
+    const auto& tri = s.triangles[size_t(t)];
+    return std::array<Vec3, 3>{s.points[size_t(tri[0])], s.points[size_t(tri[1])], s.points[size_t(tri[2])]};
+  };
+  for (size_t k = 0; k < half_edges.size(); k += 2) {
+    const int a = half_edges[k].triangle, b = half_edges[k + 1].triangle;
+    if (!dthex::triangles_fold_onto_each_other(corners(a), corners(b))) continue;
+    ++folded;
+    const std::array<int, 2> pair{std::min(a, b), std::max(a, b)};
+    if (lowest[0] < 0 || pair < lowest) lowest = pair;
+  }
+  ASSERT_GE(folded, 2u);
+  expect_refused(s, "folded edge", std::to_string(folded) + " edges where the surface folds back onto itself, first triangle " +
+                                       std::to_string(lowest[0]) + " [");
+  expect_refused(s, "folded edge", " and triangle " + std::to_string(lowest[1]) + " [");
 }
 
 TEST(VerifySurface, ANearlyFoldedFinIsRefusedAsTheCoarseningWouldRefuseIt) {
