@@ -62,7 +62,7 @@ const std::vector<StageColumn> kColumns = {
     {"tetrahedralize", {"tetrahedralize"}},
     {"tet edits",
      {"flip boundary edges", "flip 3-2", "merge inner points", "split surface tets", "flip worst tets",
-      "relax inner points", "split crowded vertices"}},
+      "relax inner points", "thin boundary stars", "split crowded vertices"}},
     {"thex", {"thex"}},
     {"dice", {"dice"}},
     {"project", {"project"}},

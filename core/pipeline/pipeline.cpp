@@ -27,6 +27,7 @@
 #include <dthex/tet_edits/flip_worst_tets.h>
 #include <dthex/tet_edits/remove_boundary_edges.h>
 #include <dthex/tet_edits/split_crowded_vertices.h>
+#include <dthex/tet_edits/thin_crowded_boundary_stars.h>
 #include <dthex/tets/refine_flat_needles.h>
 #include <dthex/tets/relax_interior_points.h>
 #include <dthex/tets/remove_flat_valence3_vertices.h>
@@ -159,6 +160,9 @@ void improve_tets_for_projection(TetMesh& tets, const PipelineOptions& options, 
   // The splits' points (and TetGen's) where the worst tet around each is best: THex hands a
   // tet's shape on to its hexes, and a point just above a boundary face makes flat ones.
   stage("relax inner points", [&] { return StageReport(relax_interior_points(tets)); });
+  // Then the boundary vertices that too many tets share for the solid angle the surface
+  // leaves them (a crease or a ridge): their hex corners would be too narrow for any smoothing.
+  stage("thin boundary stars", [&] { return StageReport(thin_crowded_boundary_stars(tets)); });
   // Last, the interior vertices that too many tets share (the cones and merges above make
   // them): their hex corners would share the sphere too finely for any smoothing to widen.
   stage("split crowded vertices", [&] { return StageReport(split_crowded_vertices(tets)); });

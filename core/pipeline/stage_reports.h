@@ -19,6 +19,7 @@
 #include <dthex/tet_edits/flip_worst_tets.h>
 #include <dthex/tet_edits/remove_boundary_edges.h>
 #include <dthex/tet_edits/split_crowded_vertices.h>
+#include <dthex/tet_edits/thin_crowded_boundary_stars.h>
 #include <dthex/tets/refine_flat_needles.h>
 #include <dthex/tets/relax_interior_points.h>
 #include <dthex/tets/split_surface_tets.h>
@@ -193,6 +194,7 @@ using StageReport =
     std::variant<ReadReport, SurfaceSummary, RemeshStageReport, ThinWallReport, ChooseEpsReport, CoarsenStageReport,
                  TetrahedralizeReport, BoundaryEdgesReport, FlipThreeTetEdgesReport, CollapseInteriorVerticesReport,
                  SplitSurfaceTetsReport, FlipWorstTetsReport, RelaxInteriorPointsReport, SplitCrowdedVerticesReport,
+                 ThinCrowdedBoundaryStarsReport,
                  HexCountReport, ProjectReport, UntangleReport, LocalSmoothReport, OptimizeWorstRegionsReport, CreaseSlideStageReport,
                  RepairWorstStageReport,
                  RepairFoldsStageReport, MeasureReport, MeshTryReport, ThinWallPredictionReport>;

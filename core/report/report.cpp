@@ -180,6 +180,15 @@ std::string text(const SplitCrowdedVerticesReport& r) {
          count_text("tets", r.tets_after);
 }
 
+std::string text(const ThinCrowdedBoundaryStarsReport& r) {
+  std::ostringstream out;
+  out << count_text("interior edges removed", r.edges_removed) << " at "
+      << count_text("crowded boundary vertices", r.crowded_before) << " (" << r.crowded_after
+      << " left), lowest corner bound " << r.lowest_bound_before << " -> " << r.lowest_bound_after << ", "
+      << count_text("tets", r.tets_after);
+  return out.str();
+}
+
 std::string text(const OptimizeWorstRegionsReport& r) {
   std::ostringstream out;
   out << "min scaled Jacobian " << r.min_before << " -> " << r.min_after;
@@ -399,6 +408,16 @@ json fields(const FlipWorstTetsReport& r) {
 
 json fields(const RelaxInteriorPointsReport& r) {
   return {{"moved", r.moved}, {"worst_before", r.worst_before}, {"worst_after", r.worst_after}};
+}
+
+json fields(const ThinCrowdedBoundaryStarsReport& r) {
+  return {{"edges_removed", r.edges_removed},
+          {"crowded_before", r.crowded_before},
+          {"crowded_after", r.crowded_after},
+          {"lowest_bound_before", r.lowest_bound_before},
+          {"lowest_bound_after", r.lowest_bound_after},
+          {"tets_before", r.tets_before},
+          {"tets_after", r.tets_after}};
 }
 
 json fields(const SplitCrowdedVerticesReport& r) {

@@ -1,0 +1,158 @@
+// SPDX-License-Identifier: MIT
+#include <dthex/tet_edits/thin_crowded_boundary_stars.h>
+
+#include <dthex/tet_edits/edge_removal.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace dthex {
+
+double corner_scaled_jacobian_bound(double w) {
+  if (!(w > 0)) return 0;
+  if (w >= M_PI / 2) return 1;
+  // Three unit edges at a common angle alpha (c = cos alpha, 0 <= c < 1): scaled Jacobian
+  // sqrt(1 - 3c^2 + 2c^3), solid angle 2 atan2(that, 1 + 3c) (Van Oosterom and Strackee),
+  // which falls as c rises; bisection on c.
+  auto jacobian = [](double c) { return std::sqrt(std::max(0.0, 1 - 3 * c * c + 2 * c * c * c)); };
+  auto solid_angle = [&](double c) { return 2 * std::atan2(jacobian(c), 1 + 3 * c); };
+  double lo = 0, hi = 1;  // solid_angle(lo) = pi / 2 > w > 0 = solid_angle(hi)
+  for (int i = 0; i < 60; ++i) {
+    const double mid = (lo + hi) / 2;
+    (solid_angle(mid) > w ? lo : hi) = mid;
+  }
+  return jacobian((lo + hi) / 2);
+}
+
+namespace {
+
+// Solid angle at a of the tet (a, b, c, d).
+double solid_angle_at(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  const Vec3 x = b - a, y = c - a, z = d - a;
+  const double lx = x.norm(), ly = y.norm(), lz = z.norm();
+  const double det = std::abs(x.dot(y.cross(z)));
+  const double denom = lx * ly * lz + x.dot(y) * lz + x.dot(z) * ly + y.dot(z) * lx;
+  return 2 * std::atan2(det, denom);
+}
+
+class StarThinner {
+ public:
+  StarThinner(TetMesh& mesh, const ThinCrowdedBoundaryStarsOptions& options)
+      : m_(mesh), options_(options), on_boundary_(mesh.points.size(), 0), solid_angle_(mesh.points.size(), 0) {
+    for (const auto& f : mesh.boundary_faces)
+      for (int v : f) on_boundary_[size_t(v)] = 1;
+    for (const auto& t : mesh.tets)
+      for (int i = 0; i < 4; ++i) {
+        const int a = t[size_t(i)];
+        if (!on_boundary_[size_t(a)]) continue;
+        // The other three in an order that leaves the solid angle's sign out (abs above).
+        std::array<int, 3> o{};
+        for (int j = 0, n = 0; j < 4; ++j)
+          if (j != i) o[size_t(n++)] = t[size_t(j)];
+        solid_angle_[size_t(a)] += solid_angle_at(mesh.points[size_t(a)], mesh.points[size_t(o[0])],
+                                                  mesh.points[size_t(o[1])], mesh.points[size_t(o[2])]);
+      }
+  }
+
+  double bound(int v, int tets) const { return corner_scaled_jacobian_bound(solid_angle_[size_t(v)] / tets); }
+  double bound(int v) { return bound(v, int(m_.tets_of(v).size())); }
+
+  std::vector<std::pair<double, int>> crowded() {
+    std::vector<std::pair<double, int>> out;
+    for (size_t v = 0; v < on_boundary_.size(); ++v)
+      if (on_boundary_[v]) {
+        const double b = bound(int(v));
+        if (b < options_.target_bound) out.emplace_back(b, int(v));
+      }
+    std::sort(out.begin(), out.end());
+    return out;
+  }
+
+  double lowest_bound() {
+    double lowest = 1;
+    for (size_t v = 0; v < on_boundary_.size(); ++v)
+      if (on_boundary_[v]) lowest = std::min(lowest, bound(int(v)));
+    return lowest;
+  }
+
+  // Takes out the best interior edge at v; false when no removal is allowed.
+  bool remove_one_edge_at(int v) {
+    std::vector<int> neighbours;
+    for (int t : m_.tets_of(v))
+      for (int u : m_.tet(t))
+        if (u != v) neighbours.push_back(u);
+    std::sort(neighbours.begin(), neighbours.end());
+    neighbours.erase(std::unique(neighbours.begin(), neighbours.end()), neighbours.end());
+    struct Choice {
+      std::vector<int> old_tets;
+      std::vector<std::array<int, 4>> new_tets;
+      double lowest_after = -1, worst = -1;
+    } best;
+    for (int u : neighbours) {
+      const std::vector<int> around = m_.tets_with(v, u);
+      if (int(around.size()) > options_.max_ring) continue;
+      const auto ring = ring_around(m_, v, u, around);  // none for a boundary edge
+      if (!ring) continue;
+      const RingTriangulation tri = best_ring_triangulation(m_, v, u, *ring, on_boundary_);
+      if (!(tri.worst > 0)) continue;
+      const double old_worst = worst_shape(m_, around);
+      if (tri.worst < options_.min_shape_ratio * old_worst || tri.worst < std::min(options_.min_shape, old_worst))
+        continue;
+      std::vector<std::array<int, 4>> new_tets = tets_of_ring_triangulation(v, u, *ring, tri);
+      // The tet count change of every vertex involved; the lowest bound among the boundary
+      // ones must rise.
+      std::map<int, int> change;
+      for (int t : around)
+        for (int x : m_.tet(t)) --change[x];
+      for (const auto& t : new_tets)
+        for (int x : t) ++change[x];
+      double lowest_before = 1, lowest_after = 1;
+      for (const auto& [x, d] : change) {
+        if (!on_boundary_[size_t(x)] || d == 0) continue;
+        const int k = int(m_.tets_of(x).size());
+        lowest_before = std::min(lowest_before, bound(x, k));
+        lowest_after = std::min(lowest_after, bound(x, k + d));
+      }
+      if (!(lowest_after > lowest_before + 1e-12)) continue;
+      if (lowest_after > best.lowest_after + 1e-12 ||
+          (lowest_after > best.lowest_after - 1e-12 && tri.worst > best.worst)) {
+        best.old_tets = around;
+        best.new_tets = std::move(new_tets);
+        best.lowest_after = lowest_after;
+        best.worst = tri.worst;
+      }
+    }
+    if (best.lowest_after < 0) return false;
+    m_.replace(best.old_tets, best.new_tets);
+    return true;
+  }
+
+  void compact() { m_.compact(); }
+
+ private:
+  EditableTets m_;
+  const ThinCrowdedBoundaryStarsOptions& options_;
+  std::vector<char> on_boundary_;
+  std::vector<double> solid_angle_;  //!< per boundary vertex: the solid angle its tets fill
+};
+
+}  // namespace
+
+ThinCrowdedBoundaryStarsReport thin_crowded_boundary_stars(TetMesh& mesh, const ThinCrowdedBoundaryStarsOptions& options) {
+  ThinCrowdedBoundaryStarsReport report;
+  report.tets_before = mesh.tets.size();
+  StarThinner thinner(mesh, options);
+  report.lowest_bound_before = thinner.lowest_bound();
+  const auto crowded = thinner.crowded();
+  report.crowded_before = crowded.size();
+  for (const auto& [unused, v] : crowded)
+    while (thinner.bound(v) < options.target_bound && thinner.remove_one_edge_at(v)) ++report.edges_removed;
+  report.crowded_after = thinner.crowded().size();
+  report.lowest_bound_after = thinner.lowest_bound();
+  thinner.compact();
+  report.tets_after = mesh.tets.size();
+  return report;
+}
+
+}  // namespace dthex
