@@ -176,4 +176,18 @@ std::vector<std::array<int, 4>> tets_of_ring_triangulation(int p, int q, const s
   return out;
 }
 
+std::optional<EdgeRemoval> best_edge_removal(EditableTets& m, int p, int q, const std::vector<int>& around,
+                                             int max_ring, const std::vector<char>& on_boundary) {
+  if (int(around.size()) > max_ring) return std::nullopt;
+  auto ring = ring_around(m, p, q, around);  // none for a boundary edge
+  if (!ring) return std::nullopt;
+  const RingTriangulation tri = best_ring_triangulation(m, p, q, *ring, on_boundary);
+  if (!(tri.worst > 0)) return std::nullopt;
+  EdgeRemoval removal;
+  removal.new_tets = tets_of_ring_triangulation(p, q, *ring, tri);
+  removal.ring = std::move(*ring);
+  removal.worst = tri.worst;
+  return removal;
+}
+
 }  // namespace dthex

@@ -66,6 +66,20 @@ RingTriangulation best_ring_triangulation(EditableTets& mesh, int p, int q, cons
 std::vector<std::array<int, 4>> tets_of_ring_triangulation(int p, int q, const std::vector<int>& ring,
                                                              const RingTriangulation& triangulation);
 
+//! An edge removal ready to be made: the ring around the edge and the tets that replace the
+//! ones around it, whose worst Verdict shape is `worst` (above 0).
+struct EdgeRemoval {
+  std::vector<int> ring;
+  std::vector<std::array<int, 4>> new_tets;
+  double worst = 0;
+};
+
+//! The best edge removal of the edge pq, `around` being its tets: nothing when more than
+//! max_ring tets are around it, pq is a boundary edge, or no allowed triangulation of its ring
+//! (best_ring_triangulation) makes only positive tets.
+std::optional<EdgeRemoval> best_edge_removal(EditableTets& mesh, int p, int q, const std::vector<int>& around,
+                                             int max_ring, const std::vector<char>& on_boundary);
+
 //! Worst Verdict shape among the tets given.
 double worst_shape(const EditableTets& mesh, const std::vector<int>& tets);
 

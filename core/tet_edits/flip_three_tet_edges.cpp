@@ -28,11 +28,9 @@ FlipThreeTetEdgesReport flip_three_tet_edges(TetMesh& mesh, const FlipThreeTetEd
     for (const auto& [p, q] : edges) {
       const std::vector<int> around = tets.tets_with(p, q);
       if (around.size() != 3) continue;
-      const auto ring = ring_around(tets, p, q, around);  // none for a boundary edge
-      if (!ring) continue;
-      const RingTriangulation flip = best_ring_triangulation(tets, p, q, *ring, on_boundary);
-      if (!(flip.worst > 0 && flip.worst >= options.min_shape_ratio * worst_shape(tets, around))) continue;
-      tets.replace(around, tets_of_ring_triangulation(p, q, *ring, flip));
+      const auto flip = best_edge_removal(tets, p, q, around, 3, on_boundary);
+      if (!flip || flip->worst < options.min_shape_ratio * worst_shape(tets, around)) continue;
+      tets.replace(around, flip->new_tets);
       ++report.flips;
     }
     if (report.flips == flips_before) break;

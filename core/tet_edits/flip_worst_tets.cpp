@@ -102,15 +102,12 @@ FlipWorstTetsReport flip_worst_tets(TetMesh& mesh, const FlipWorstTetsOptions& o
         for (int j = i + 1; j < 4; ++j) {
           const int p = x[size_t(i)], q = x[size_t(j)];
           const std::vector<int> around = m.tets_with(p, q);
-          if (int(around.size()) > options.max_ring) continue;
-          const auto ring = ring_around(m, p, q, around);  // none for a boundary edge
-          if (!ring) continue;
-          const RingTriangulation tri = best_ring_triangulation(m, p, q, *ring, on_boundary);
-          if (!(tri.worst > 0)) continue;
+          auto removal = best_edge_removal(m, p, q, around, options.max_ring, on_boundary);
+          if (!removal) continue;
           Flip f;
           f.old_tets = around;
-          f.new_tets = tets_of_ring_triangulation(p, q, *ring, tri);
-          f.worst = tri.worst;
+          f.new_tets = std::move(removal->new_tets);
+          f.worst = removal->worst;
           f.removes_edge = true;
           consider(std::move(f));
         }

@@ -90,14 +90,13 @@ RemoveBoundaryEdgesReport remove_boundary_edges(TetMesh& mesh, const RemoveBound
         pending[size_t(c)] = 0;
         continue;
       }
-      if (int(around.size()) > options.max_ring) continue;
-      const auto ring = ring_around(tets, p, q, around);
-      if (!ring) continue;
-      const RingTriangulation best = best_ring_triangulation(tets, p, q, *ring, on_boundary);
-      const double needed = std::max(options.min_shape, options.min_shape_ratio * midpoint_split_worst(tets, p, q, *ring));
-      if (!(best.worst >= needed && best.worst > 0)) continue;
+      const auto best = best_edge_removal(tets, p, q, around, options.max_ring, on_boundary);
+      if (!best) continue;
+      const double needed =
+          std::max(options.min_shape, options.min_shape_ratio * midpoint_split_worst(tets, p, q, best->ring));
+      if (!(best->worst >= needed)) continue;
       const std::vector<int> touched = vertices_of(around);
-      tets.replace(around, tets_of_ring_triangulation(p, q, *ring, best));
+      tets.replace(around, best->new_tets);
       pending[size_t(c)] = 0;
       ++report.removed;
       requeue_around(touched);

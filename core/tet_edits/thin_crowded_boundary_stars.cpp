@@ -91,15 +91,12 @@ class StarThinner {
     } best;
     for (int u : neighbours) {
       const std::vector<int> around = m_.tets_with(v, u);
-      if (int(around.size()) > options_.max_ring) continue;
-      const auto ring = ring_around(m_, v, u, around);  // none for a boundary edge
-      if (!ring) continue;
-      const RingTriangulation tri = best_ring_triangulation(m_, v, u, *ring, on_boundary_);
-      if (!(tri.worst > 0)) continue;
+      auto removal = best_edge_removal(m_, v, u, around, options_.max_ring, on_boundary_);
+      if (!removal) continue;
       const double old_worst = worst_shape(m_, around);
-      if (tri.worst < options_.min_shape_ratio * old_worst || tri.worst < std::min(options_.min_shape, old_worst))
+      if (removal->worst < options_.min_shape_ratio * old_worst || removal->worst < std::min(options_.min_shape, old_worst))
         continue;
-      std::vector<std::array<int, 4>> new_tets = tets_of_ring_triangulation(v, u, *ring, tri);
+      std::vector<std::array<int, 4>>& new_tets = removal->new_tets;
       // The tet count change of every vertex involved; the lowest bound among the boundary
       // ones must rise.
       std::map<int, int> change;
@@ -116,11 +113,11 @@ class StarThinner {
       }
       if (!(lowest_after > lowest_before + 1e-12)) continue;
       if (lowest_after > best.lowest_after + 1e-12 ||
-          (lowest_after > best.lowest_after - 1e-12 && tri.worst > best.worst)) {
+          (lowest_after > best.lowest_after - 1e-12 && removal->worst > best.worst)) {
         best.old_tets = around;
         best.new_tets = std::move(new_tets);
         best.lowest_after = lowest_after;
-        best.worst = tri.worst;
+        best.worst = removal->worst;
       }
     }
     if (best.lowest_after < 0) return false;
