@@ -182,7 +182,8 @@ std::string text(const SplitCrowdedVerticesReport& r) {
 
 std::string text(const ThinCrowdedBoundaryStarsReport& r) {
   std::ostringstream out;
-  out << count_text("interior edges removed", r.edges_removed) << " at "
+  out << count_text("interior edges removed", r.edges_removed) << " and "
+      << count_text("interior points merged", r.merged) << " at "
       << count_text("crowded boundary vertices", r.crowded_before) << " (" << r.crowded_after
       << " left), lowest corner bound " << r.lowest_bound_before << " -> " << r.lowest_bound_after << ", "
       << count_text("tets", r.tets_after);
@@ -412,6 +413,7 @@ json fields(const RelaxInteriorPointsReport& r) {
 
 json fields(const ThinCrowdedBoundaryStarsReport& r) {
   return {{"edges_removed", r.edges_removed},
+          {"merged", r.merged},
           {"crowded_before", r.crowded_before},
           {"crowded_after", r.crowded_after},
           {"lowest_bound_before", r.lowest_bound_before},

@@ -93,19 +93,7 @@ CollapseInteriorVerticesReport collapse_interior_vertices(TetMesh& mesh, const C
     if (report.collapsed == before) break;
   }
   tets.compact();
-  // Renumber the points still used.
-  std::vector<int> new_index(mesh.points.size(), -1);
-  std::vector<Vec3> points;
-  for (size_t v = 0; v < mesh.points.size(); ++v)
-    if (!gone[v]) {
-      new_index[v] = int(points.size());
-      points.push_back(mesh.points[v]);
-    }
-  for (auto& t : mesh.tets)
-    for (int& x : t) x = new_index[size_t(x)];
-  for (auto& f : mesh.boundary_faces)
-    for (int& x : f) x = new_index[size_t(x)];
-  mesh.points = std::move(points);
+  drop_points(mesh, gone);
   report.tets_after = mesh.tets.size();
   return report;
 }

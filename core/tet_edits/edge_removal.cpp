@@ -190,4 +190,19 @@ std::optional<EdgeRemoval> best_edge_removal(EditableTets& m, int p, int q, cons
   return removal;
 }
 
+void drop_points(TetMesh& mesh, const std::vector<char>& gone) {
+  std::vector<int> new_index(mesh.points.size(), -1);
+  std::vector<Vec3> points;
+  for (size_t v = 0; v < mesh.points.size(); ++v)
+    if (!gone[v]) {
+      new_index[v] = int(points.size());
+      points.push_back(mesh.points[v]);
+    }
+  for (auto& t : mesh.tets)
+    for (int& x : t) x = new_index[size_t(x)];
+  for (auto& f : mesh.boundary_faces)
+    for (int& x : f) x = new_index[size_t(x)];
+  mesh.points = std::move(points);
+}
+
 }  // namespace dthex

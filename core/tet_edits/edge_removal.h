@@ -80,6 +80,10 @@ struct EdgeRemoval {
 std::optional<EdgeRemoval> best_edge_removal(EditableTets& mesh, int p, int q, const std::vector<int>& around,
                                              int max_ring, const std::vector<char>& on_boundary);
 
+//! Removes the points marked in `gone` (used by no tet and no boundary face) and renumbers
+//! the tets and boundary faces to the points kept, in their order.
+void drop_points(TetMesh& mesh, const std::vector<char>& gone);
+
 //! Worst Verdict shape among the tets given.
 double worst_shape(const EditableTets& mesh, const std::vector<int>& tets);
 

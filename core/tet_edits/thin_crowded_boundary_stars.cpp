@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/tet_edits/thin_crowded_boundary_stars.h>
 
+#include <dthex/mesh/quality.h>
 #include <dthex/tet_edits/edge_removal.h>
 
 #include <algorithm>
@@ -39,7 +40,11 @@ double solid_angle_at(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d
 class StarThinner {
  public:
   StarThinner(TetMesh& mesh, const ThinCrowdedBoundaryStarsOptions& options)
-      : m_(mesh), options_(options), on_boundary_(mesh.points.size(), 0), solid_angle_(mesh.points.size(), 0) {
+      : m_(mesh),
+        options_(options),
+        on_boundary_(mesh.points.size(), 0),
+        solid_angle_(mesh.points.size(), 0),
+        gone_(mesh.points.size(), 0) {
     for (const auto& f : mesh.boundary_faces)
       for (int v : f) on_boundary_[size_t(v)] = 1;
     for (const auto& t : mesh.tets)
@@ -76,62 +81,114 @@ class StarThinner {
     return lowest;
   }
 
-  // Takes out the best interior edge at v; false when no removal is allowed.
-  bool remove_one_edge_at(int v) {
-    std::vector<int> neighbours;
-    for (int t : m_.tets_of(v))
-      for (int u : m_.tet(t))
-        if (u != v) neighbours.push_back(u);
-    std::sort(neighbours.begin(), neighbours.end());
-    neighbours.erase(std::unique(neighbours.begin(), neighbours.end()), neighbours.end());
-    struct Choice {
-      std::vector<int> old_tets;
-      std::vector<std::array<int, 4>> new_tets;
-      double lowest_after = -1, worst = -1;
-    } best;
+  // Takes out the best interior edge at v, by an edge removal or by merging an interior
+  // neighbour into another; false when neither is allowed anywhere around v.
+  bool thin_once_at(int v) {
+    const std::vector<int> neighbours = neighbours_of(v);
+    Choice best;
     for (int u : neighbours) {
       const std::vector<int> around = m_.tets_with(v, u);
       auto removal = best_edge_removal(m_, v, u, around, options_.max_ring, on_boundary_);
-      if (!removal) continue;
-      const double old_worst = worst_shape(m_, around);
-      if (removal->worst < options_.min_shape_ratio * old_worst || removal->worst < std::min(options_.min_shape, old_worst))
-        continue;
-      std::vector<std::array<int, 4>>& new_tets = removal->new_tets;
-      // The tet count change of every vertex involved; the lowest bound among the boundary
-      // ones must rise.
-      std::map<int, int> change;
-      for (int t : around)
-        for (int x : m_.tet(t)) --change[x];
-      for (const auto& t : new_tets)
-        for (int x : t) ++change[x];
-      double lowest_before = 1, lowest_after = 1;
-      for (const auto& [x, d] : change) {
-        if (!on_boundary_[size_t(x)] || d == 0) continue;
-        const int k = int(m_.tets_of(x).size());
-        lowest_before = std::min(lowest_before, bound(x, k));
-        lowest_after = std::min(lowest_after, bound(x, k + d));
-      }
-      if (!(lowest_after > lowest_before + 1e-12)) continue;
-      if (lowest_after > best.lowest_after + 1e-12 ||
-          (lowest_after > best.lowest_after - 1e-12 && removal->worst > best.worst)) {
-        best.old_tets = around;
-        best.new_tets = std::move(new_tets);
-        best.lowest_after = lowest_after;
-        best.worst = removal->worst;
-      }
+      if (removal) consider(around, std::move(removal->new_tets), removal->worst, -1, best);
+      if (options_.merge_interior_neighbours && !on_boundary_[size_t(u)]) consider_merges_of(u, best);
     }
     if (best.lowest_after < 0) return false;
     m_.replace(best.old_tets, best.new_tets);
+    if (best.merged >= 0) gone_[size_t(best.merged)] = 1, ++merged_;
+    else ++removed_;
     return true;
   }
 
-  void compact() { m_.compact(); }
+  size_t edges_removed() const { return removed_; }
+  size_t merged() const { return merged_; }
+
+  // Drops the dead tets, then the merged points (the indices of the rest renumbered).
+  void finish(TetMesh& mesh) {
+    m_.compact();
+    if (merged_) drop_points(mesh, gone_);
+  }
 
  private:
+  // A change of the mesh: these tets out, those in; merged is the point it takes out, if any.
+  struct Choice {
+    std::vector<int> old_tets;
+    std::vector<std::array<int, 4>> new_tets;
+    double lowest_after = -1, worst = -1;
+    int merged = -1;
+  };
+
+  std::vector<int> neighbours_of(int v) {
+    std::vector<int> out;
+    for (int t : m_.tets_of(v))
+      for (int u : m_.tet(t))
+        if (u != v) out.push_back(u);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  }
+
+  // Takes the change into `best` when its tets keep the shape the options ask for, the lowest
+  // bound among the boundary vertices whose tet count it changes rises, and it rises further
+  // than best's (or as far, with a better worst tet).
+  void consider(const std::vector<int>& old_tets, std::vector<std::array<int, 4>> new_tets, double worst, int merged,
+                Choice& best) {
+    const double old_worst = worst_shape(m_, old_tets);
+    if (worst < options_.min_shape_ratio * old_worst || worst < std::min(options_.min_shape, old_worst)) return;
+    std::map<int, int> change;
+    for (int t : old_tets)
+      for (int x : m_.tet(t)) --change[x];
+    for (const auto& t : new_tets)
+      for (int x : t) ++change[x];
+    double lowest_before = 1, lowest_after = 1;
+    for (const auto& [x, d] : change) {
+      if (!on_boundary_[size_t(x)] || d == 0) continue;
+      const int k = int(m_.tets_of(x).size());
+      lowest_before = std::min(lowest_before, bound(x, k));
+      lowest_after = std::min(lowest_after, bound(x, k + d));
+    }
+    if (!(lowest_after > lowest_before + 1e-12)) return;
+    if (lowest_after > best.lowest_after + 1e-12 || (lowest_after > best.lowest_after - 1e-12 && worst > best.worst)) {
+      best.old_tets = old_tets;
+      best.new_tets = std::move(new_tets);
+      best.lowest_after = lowest_after;
+      best.worst = worst;
+      best.merged = merged;
+    }
+  }
+
+  // The merges of interior vertex u into each of its interior neighbours w (an edge
+  // contraction: the tets with both go, w replaces u in the others). w being interior, no new
+  // edge or face joins only boundary vertices; every new tet must be positive, and w may not
+  // end in more tets than the merge of interior points allows (collapse_interior_vertices.h).
+  void consider_merges_of(int u, Choice& best) {
+    const std::vector<int> star = m_.tets_of(u);
+    for (int w : neighbours_of(u)) {
+      if (on_boundary_[size_t(w)]) continue;
+      std::vector<std::array<int, 4>> moved;
+      size_t removed = 0;
+      double worst = 1;
+      for (int t : star) {
+        std::array<int, 4> x = m_.tet(t);
+        if (std::find(x.begin(), x.end(), w) != x.end()) {
+          ++removed;
+          continue;
+        }
+        std::replace(x.begin(), x.end(), u, w);
+        worst = std::min(worst, tet_shape(m_.point(x[0]), m_.point(x[1]), m_.point(x[2]), m_.point(x[3])));
+        moved.push_back(x);
+      }
+      if (!(worst > 0)) continue;
+      if (m_.tets_of(w).size() - removed + moved.size() > size_t(options_.max_tets_at_merged_vertex)) continue;
+      consider(star, std::move(moved), worst, u, best);
+    }
+  }
+
   EditableTets m_;
   const ThinCrowdedBoundaryStarsOptions& options_;
   std::vector<char> on_boundary_;
   std::vector<double> solid_angle_;  //!< per boundary vertex: the solid angle its tets fill
+  std::vector<char> gone_;           //!< merged points
+  size_t removed_ = 0, merged_ = 0;
 };
 
 }  // namespace
@@ -144,10 +201,13 @@ ThinCrowdedBoundaryStarsReport thin_crowded_boundary_stars(TetMesh& mesh, const 
   const auto crowded = thinner.crowded();
   report.crowded_before = crowded.size();
   for (const auto& [unused, v] : crowded)
-    while (thinner.bound(v) < options.target_bound && thinner.remove_one_edge_at(v)) ++report.edges_removed;
+    while (thinner.bound(v) < options.target_bound && thinner.thin_once_at(v)) {
+    }
+  report.edges_removed = thinner.edges_removed();
+  report.merged = thinner.merged();
   report.crowded_after = thinner.crowded().size();
   report.lowest_bound_after = thinner.lowest_bound();
-  thinner.compact();
+  thinner.finish(mesh);
   report.tets_after = mesh.tets.size();
   return report;
 }

@@ -73,16 +73,16 @@ TEST(ThinCrowdedBoundaryStars, CornerBoundOfKnownCorners) {
 }
 
 // The coarse vertebra as the pipeline hands it on: at a target above what its boundary
-// vertices reach, edges go, the lowest bound (measured here by another solid-angle formula)
-// rises and fewer vertices are below the target, while the mesh stays a valid tet mesh of the
-// same domain with the same boundary faces and points, and no interior edge or face of
-// boundary vertices appears.
+// vertices reach, edges go by both kinds of change, the lowest bound (measured here by another
+// solid-angle formula) rises and fewer vertices are below the target, while the mesh stays a
+// valid tet mesh of the same domain with the same boundary faces and points, and no interior
+// edge or face of boundary vertices appears.
 TEST(ThinCrowdedBoundaryStars, RaisesTheLowestCornerBoundAndKeepsTheMeshValid) {
   TetMesh m = coarse_vertebra_before_worst_tet_edits();
   const TetMesh before = m;
   const double volume = total_volume(m);
   ThinCrowdedBoundaryStarsOptions options;
-  options.target_bound = 0.5;
+  options.target_bound = 0.55;
   const auto [lowest_before, below_before] = lowest_bound(m, options.target_bound);
   ASSERT_GT(below_before, 0u);
   const ThinCrowdedBoundaryStarsReport report = thin_crowded_boundary_stars(m, options);
@@ -92,12 +92,16 @@ TEST(ThinCrowdedBoundaryStars, RaisesTheLowestCornerBoundAndKeepsTheMeshValid) {
   EXPECT_EQ(report.crowded_before, below_before);
   EXPECT_EQ(report.crowded_after, below_after);
   EXPECT_GT(report.edges_removed, 0u);
+  EXPECT_GT(report.merged, 0u);
   EXPECT_LT(below_after, below_before);
   EXPECT_GE(lowest_after, lowest_before);
   EXPECT_EQ(report.tets_before, before.tets.size());
   EXPECT_EQ(report.tets_after, m.tets.size());
-  EXPECT_EQ(m.points, before.points);
+  // Merged interior points are dropped; the boundary's points and faces stay as they were.
+  EXPECT_EQ(m.points.size(), before.points.size() - report.merged);
   EXPECT_EQ(m.boundary_faces, before.boundary_faces);
+  for (const auto& f : m.boundary_faces)
+    for (int v : f) EXPECT_EQ(m.points[size_t(v)], before.points[size_t(v)]);
   const BadEntities bad_before = bad_entities(before), bad_after = bad_entities(m);
   EXPECT_EQ(bad_after.edges, bad_before.edges);
   EXPECT_EQ(bad_after.faces, bad_before.faces);
@@ -114,4 +118,19 @@ TEST(ThinCrowdedBoundaryStars, LeavesAMeshWithNoCrowdedVertexAsItWas) {
   EXPECT_EQ(report.crowded_before, 0u);
   EXPECT_EQ(report.edges_removed, 0u);
   EXPECT_EQ(m.tets, before.tets);
+}
+
+// The merges thin where edge removals alone cannot: without them the same target leaves more
+// vertices crowded.
+TEST(ThinCrowdedBoundaryStars, MergesThinWhereEdgeRemovalsCannot) {
+  ThinCrowdedBoundaryStarsOptions options;
+  options.target_bound = 0.55;
+  TetMesh with = coarse_vertebra_before_worst_tet_edits(), without = with;
+  const ThinCrowdedBoundaryStarsReport merged = thin_crowded_boundary_stars(with, options);
+  options.merge_interior_neighbours = false;
+  const ThinCrowdedBoundaryStarsReport removals_only = thin_crowded_boundary_stars(without, options);
+  EXPECT_EQ(removals_only.merged, 0u);
+  EXPECT_GT(merged.merged, 0u);
+  EXPECT_LT(merged.crowded_after, removals_only.crowded_after);
+  EXPECT_EQ(with.points.size(), without.points.size() - merged.merged);
 }
