@@ -28,6 +28,18 @@ double corner_scaled_jacobian_bound(double w) {
 
 namespace {
 
+// The solid angle whose corner bound is `bound` (the inverse of corner_scaled_jacobian_bound,
+// which rises with it), by bisection.
+double corner_solid_angle_for_bound(double bound) {
+  if (!(bound > 0)) return 0;
+  double lo = 0, hi = M_PI / 2;
+  for (int i = 0; i < 60; ++i) {
+    const double mid = (lo + hi) / 2;
+    (corner_scaled_jacobian_bound(mid) < bound ? lo : hi) = mid;
+  }
+  return hi;
+}
+
 // Solid angle at a of the tet (a, b, c, d).
 double solid_angle_at(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   const Vec3 x = b - a, y = c - a, z = d - a;
@@ -44,7 +56,8 @@ class StarThinner {
         options_(options),
         on_boundary_(mesh.points.size(), 0),
         solid_angle_(mesh.points.size(), 0),
-        gone_(mesh.points.size(), 0) {
+        gone_(mesh.points.size(), 0),
+        target_solid_angle_(corner_solid_angle_for_bound(options.target_bound)) {
     for (const auto& f : mesh.boundary_faces)
       for (int v : f) on_boundary_[size_t(v)] = 1;
     for (const auto& t : mesh.tets)
@@ -63,22 +76,25 @@ class StarThinner {
   double bound(int v, int tets) const { return corner_scaled_jacobian_bound(solid_angle_[size_t(v)] / tets); }
   double bound(int v) { return bound(v, int(m_.tets_of(v).size())); }
 
+  // The boundary vertices whose bound is below the target, the lowest first. Compared in solid
+  // angle per tet (the bound rises with it), so the bound is reckoned only for them.
   std::vector<std::pair<double, int>> crowded() {
     std::vector<std::pair<double, int>> out;
     for (size_t v = 0; v < on_boundary_.size(); ++v)
       if (on_boundary_[v]) {
-        const double b = bound(int(v));
-        if (b < options_.target_bound) out.emplace_back(b, int(v));
+        const double w = solid_angle_[v] / double(m_.tets_of(int(v)).size());
+        if (w < target_solid_angle_) out.emplace_back(w, int(v));
       }
     std::sort(out.begin(), out.end());
+    for (auto& [w, v] : out) w = corner_scaled_jacobian_bound(w);
     return out;
   }
 
   double lowest_bound() {
-    double lowest = 1;
+    double narrowest = M_PI / 2;
     for (size_t v = 0; v < on_boundary_.size(); ++v)
-      if (on_boundary_[v]) lowest = std::min(lowest, bound(int(v)));
-    return lowest;
+      if (on_boundary_[v]) narrowest = std::min(narrowest, solid_angle_[v] / double(m_.tets_of(int(v)).size()));
+    return corner_scaled_jacobian_bound(narrowest);
   }
 
   // Takes out the best interior edge at v, by an edge removal or by merging an interior
@@ -188,6 +204,7 @@ class StarThinner {
   std::vector<char> on_boundary_;
   std::vector<double> solid_angle_;  //!< per boundary vertex: the solid angle its tets fill
   std::vector<char> gone_;           //!< merged points
+  double target_solid_angle_;        //!< the solid angle per tet whose bound is the target
   size_t removed_ = 0, merged_ = 0;
 };
 
