@@ -11,7 +11,7 @@
 # -DDTHEX_SANITIZE_ALL_TESTS=ON and call `tools/sanitize.sh . '^$'`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-filter=${1:-'ReadSurface|VerifySurface|AtomicFile|WriteHexMesh|WriteSurface|RoundTrip|Cli|HostileInput|HostileCatalogue|FailurePaths|MemoryBudget|FuzzRegression|Tetrahedralize|Thex|Dice|Conformity|BoundaryOverlap|RepairBoundaryFolds|RefineFlatNeedles|SummaryTable|RelaxBoundaryNodes|RepairWorstHexes|RemeshIsotropic|SplitInHalves|MeshSets|MergeCoincidentVertices|RemoveRedundantTriangles|RemoveSmallIslands|RepairOrientation|FlipZeroAreaSlivers|TriangleDistance|ClosestSeparatePair'}
+filter=${1:-'ReadSurface|VerifySurface|AtomicFile|WriteHexMesh|WriteSurface|RoundTrip|Cli|HostileInput|HostileCatalogue|FailurePaths|MemoryBudget|FuzzRegression|Tetrahedralize|Thex|Dice|Conformity|BoundaryOverlap|RepairBoundaryFolds|RefineFlatNeedles|SummaryTable|RelaxBoundaryNodes|RepairWorstHexes|RemeshIsotropic|SplitInHalves|MeshSets|MergeCoincidentVertices|RemoveRedundantTriangles|RemoveSmallIslands|RepairOrientation|FlipZeroAreaSlivers|TriangleDistance|ClosestSeparatePair|ThinCrowdedBoundaryStars'}
 jobs=$(nproc 2>/dev/null || echo 2)
 CC=clang CXX=clang++ cmake -S . -B build-check -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDTHEX_FUZZ=ON >/dev/null
 cmake --build build-check -j"$jobs" --target dthex_tests >/dev/null  # and om_dthex, which it runs
