@@ -38,27 +38,14 @@ CollapseInteriorVerticesReport collapse_interior_vertices(TetMesh& mesh, const C
       double best = -1;
       int best_w = -1;
       std::vector<std::array<int, 4>> best_tets;
-      std::vector<int> best_removed;
       for (int w : neighbours) {
-        std::vector<std::array<int, 4>> moved;
-        std::vector<int> removed;
-        double worst = 1;
+        EdgeContraction merge = contract_edge(tets, int(v), w, star);
+        if (merge.dropped == 0) continue;
+        if (!(merge.worst > 0) || merge.worst < options.min_shape_ratio * old_worst || merge.worst <= best) continue;
+        // New edges from w and faces through w must not join only boundary vertices.
         bool ok = true;
-        for (int t : star) {
-          std::array<int, 4> x = tets.tet(t);
-          if (std::find(x.begin(), x.end(), w) != x.end()) {
-            removed.push_back(t);
-            continue;
-          }
-          std::replace(x.begin(), x.end(), int(v), w);
-          const double shape = tet_shape(tets.point(x[0]), tets.point(x[1]), tets.point(x[2]), tets.point(x[3]));
-          worst = std::min(worst, shape);
-          if (!(shape > 0) || shape < options.min_shape_ratio * old_worst || shape <= best) {
-            ok = false;
-            break;
-          }
-          // New edges from w and faces through w must not join only boundary vertices.
-          if (on_boundary[size_t(w)]) {
+        if (on_boundary[size_t(w)])
+          for (const auto& x : merge.new_tets) {
             std::array<int, 3> others{};
             int k = 0;
             for (int y : x)
@@ -73,17 +60,14 @@ CollapseInteriorVerticesReport collapse_interior_vertices(TetMesh& mesh, const C
                 if (!std::binary_search(boundary_faces.begin(), boundary_faces.end(), key)) ok = false;
               }
             }
+            if (!ok) break;
           }
-          if (!ok) break;
-          moved.push_back(x);
-        }
-        if (!ok || removed.empty()) continue;
+        if (!ok) continue;
         const int cap = on_boundary[size_t(w)] ? options.max_tets_at_kept_vertex / 2 : options.max_tets_at_kept_vertex;
-        if (tets.tets_of(w).size() - removed.size() + moved.size() > size_t(cap)) continue;
-        best = worst;
+        if (merge.tets_at_kept > size_t(cap)) continue;
+        best = merge.worst;
         best_w = w;
-        best_tets = std::move(moved);
-        best_removed = std::move(removed);
+        best_tets = std::move(merge.new_tets);
       }
       if (best_w < 0) continue;
       tets.replace(star, best_tets);

@@ -190,6 +190,23 @@ std::optional<EdgeRemoval> best_edge_removal(EditableTets& m, int p, int q, cons
   return removal;
 }
 
+EdgeContraction contract_edge(EditableTets& m, int u, int w, const std::vector<int>& star) {
+  EdgeContraction c;
+  for (int t : star) {
+    std::array<int, 4> x = m.tet(t);
+    if (std::find(x.begin(), x.end(), w) != x.end()) {
+      ++c.dropped;
+      continue;
+    }
+    std::replace(x.begin(), x.end(), u, w);
+    const double shape = shape_of(m, x[0], x[1], x[2], x[3]);
+    c.worst = shape > 0 ? std::min(c.worst, shape) : 0.0;
+    c.new_tets.push_back(x);
+  }
+  c.tets_at_kept = m.tets_of(w).size() - c.dropped + c.new_tets.size();
+  return c;
+}
+
 void drop_points(TetMesh& mesh, const std::vector<char>& gone) {
   std::vector<int> new_index(mesh.points.size(), -1);
   std::vector<Vec3> points;

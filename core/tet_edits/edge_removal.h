@@ -80,6 +80,18 @@ struct EdgeRemoval {
 std::optional<EdgeRemoval> best_edge_removal(EditableTets& mesh, int p, int q, const std::vector<int>& around,
                                              int max_ring, const std::vector<char>& on_boundary);
 
+//! The edge contraction of vertex u into its neighbour w: u's tets (`star`) with u replaced by
+//! w, those that have both u and w dropped. worst is the worst Verdict shape of the new tets (0
+//! when one is flat, inverted or not a number; 1 when there are none), tets_at_kept the number
+//! of tets w then has. Nothing is changed: the caller decides and calls replace(star, new_tets).
+struct EdgeContraction {
+  std::vector<std::array<int, 4>> new_tets;
+  size_t dropped = 0;
+  double worst = 1;
+  size_t tets_at_kept = 0;
+};
+EdgeContraction contract_edge(EditableTets& mesh, int u, int w, const std::vector<int>& star);
+
 //! Removes the points marked in `gone` (used by no tet and no boundary face) and renumbers
 //! the tets and boundary faces to the points kept, in their order.
 void drop_points(TetMesh& mesh, const std::vector<char>& gone);

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/tet_edits/thin_crowded_boundary_stars.h>
 
-#include <dthex/mesh/quality.h>
 #include <dthex/tet_edits/edge_removal.h>
 
 #include <algorithm>
@@ -180,22 +179,9 @@ class StarThinner {
     const std::vector<int> star = m_.tets_of(u);
     for (int w : neighbours_of(u)) {
       if (on_boundary_[size_t(w)]) continue;
-      std::vector<std::array<int, 4>> moved;
-      size_t removed = 0;
-      double worst = 1;
-      for (int t : star) {
-        std::array<int, 4> x = m_.tet(t);
-        if (std::find(x.begin(), x.end(), w) != x.end()) {
-          ++removed;
-          continue;
-        }
-        std::replace(x.begin(), x.end(), u, w);
-        worst = std::min(worst, tet_shape(m_.point(x[0]), m_.point(x[1]), m_.point(x[2]), m_.point(x[3])));
-        moved.push_back(x);
-      }
-      if (!(worst > 0)) continue;
-      if (m_.tets_of(w).size() - removed + moved.size() > size_t(options_.max_tets_at_merged_vertex)) continue;
-      consider(star, std::move(moved), worst, u, best);
+      EdgeContraction merge = contract_edge(m_, u, w, star);
+      if (!(merge.worst > 0) || merge.tets_at_kept > size_t(options_.max_tets_at_merged_vertex)) continue;
+      consider(star, std::move(merge.new_tets), merge.worst, u, best);
     }
   }
 
