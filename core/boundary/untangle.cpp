@@ -86,6 +86,9 @@ struct Phase {
   std::vector<Vec3> hex_gradient;
   int rounds = 0;
   bool timed_out = false;
+  //! The energy's work in this problem: hexes evaluated, summed over its evaluations; while
+  //! the stall bound is watched, the problem stops once it reaches work_cap.
+  long work = 0, work_cap = std::numeric_limits<long>::max();
 };
 
 class Untangler {
@@ -161,20 +164,20 @@ class Untangler {
     give_up_hopeless_ = options_.slide_boundary;
     watch_stall_ = true;
     fewest_inverted_ = inverted_count();
-    last_fall_ = Clock::now();
+    work_since_fall_ = 0;
     repair(kInvertedBelow, false, fixed_rounds);
     give_up_hopeless_ = false;
     // The sliding passes get their own stall window: they undo what the fixed boundary
     // cannot. A sliding pass that removes no inverted hex stalls the repair: the next would
     // start from the same folds.
-    if (options_.slide_boundary) stalled_ = false, last_fall_ = Clock::now();
+    if (options_.slide_boundary) stalled_ = false, work_since_fall_ = 0;
     size_t before_pass = inverted_count();
     for (int phase = 0; phase < options_.max_boundary_phases && options_.slide_boundary && !report.time_limit_reached &&
                         !stalled_;
          ++phase) {
       if (!repair(kInvertedBelow, true, options_.max_rounds)) break;
       const size_t after_pass = inverted_count();
-      if (after_pass > 0 && after_pass >= before_pass && options_.stall_seconds > 0) stalled_ = true;
+      if (after_pass > 0 && after_pass >= before_pass && options_.stall_work > 0) stalled_ = true;
       before_pass = after_pass;
     }
     watch_stall_ = false;
@@ -310,30 +313,37 @@ class Untangler {
       const auto& batch = by_colour[colour];
       // Each part in the last list may share hexes with any other: one at a time.
       const bool parallel = colour < kColours && batch.size() > 1;
+      // While the inverted hexes are repaired, each part may do the work the stall bound
+      // leaves: counted, not timed, so the parts stop at the same point in every run.
+      const long work_cap = stall_watched() ? std::max(0L, options_.stall_work - work_since_fall_)
+                                            : std::numeric_limits<long>::max();
       int rounds_done = 0;
+      long work_done = 0;
       bool timed_out = false;
-#pragma omp parallel if (parallel) reduction(+ : rounds_done) reduction(|| : timed_out)
+#pragma omp parallel if (parallel) reduction(+ : rounds_done, work_done) reduction(|| : timed_out)
       {
         Phase ph;
+        ph.work_cap = work_cap;
 #pragma omp for schedule(dynamic, 1)
         for (long i = 0; i < long(batch.size()); ++i) {
-          if (Clock::now() > phase_deadline()) {
+          if (Clock::now() > deadline_) {
             timed_out = true;
             continue;
           }
           run_phase(ph, parts[batch[size_t(i)]], rounds, iterations);
           timed_out = timed_out || ph.timed_out;
+          work_done += ph.work;
         }
         rounds_done += ph.rounds;
       }
       report.rounds += rounds_done;
-      if (watch_stall_) {  // the stall clock restarts whenever the inverted count falls
+      if (timed_out) report.time_limit_reached = true;
+      if (stall_watched()) {  // the stall bound's count restarts whenever the inverted count falls
         const size_t inverted = inverted_count();
-        if (inverted < fewest_inverted_) fewest_inverted_ = inverted, last_fall_ = Clock::now();
+        work_since_fall_ += work_done;
+        if (inverted < fewest_inverted_) fewest_inverted_ = inverted, work_since_fall_ = 0;
+        if (work_since_fall_ >= options_.stall_work) stalled_ = true;
       }
-      // Stopped by the stall bound, not by the time limit.
-      if (timed_out && Clock::now() < deadline_) stalled_ = true;
-      else if (timed_out) report.time_limit_reached = true;
     }
   }
 
@@ -343,14 +353,8 @@ class Untangler {
                                 [](double sj) { return sj < kInvertedBelow; }));
   }
 
-  //! When a problem solved now must stop: the time limit, or while the inverted hexes are
-  //! repaired, stall_seconds after their count last fell.
-  Clock::time_point phase_deadline() const {
-    if (!watch_stall_ || !(options_.stall_seconds > 0)) return deadline_;
-    const auto stall = last_fall_ + std::chrono::duration_cast<Clock::duration>(
-                                        std::chrono::duration<double>(options_.stall_seconds));
-    return std::min(deadline_, stall);
-  }
+  //! Whether the stall bound is watched now: while the inverted hexes are repaired.
+  bool stall_watched() const { return watch_stall_ && options_.stall_work > 0; }
 
   // One epsilon-continuation run over `movable` (sorted node ids): interior nodes free,
   // boundary nodes among them move in their tangent plane and go back onto the surface
@@ -360,6 +364,7 @@ class Untangler {
     for (size_t v : movable)
       if (!(is_boundary_[v] && options_.held && options_.held(v, mesh_.nodes[v]))) ph.movable_nodes.push_back(v);
     ph.timed_out = false;
+    ph.work = 0;
     ph.sliding_nodes.clear();
     int n_vars = 0;
     for (size_t v : ph.movable_nodes) {
@@ -426,11 +431,12 @@ class Untangler {
       const double detmin_before = detmin;
       LbfgsOptions lbfgs;
       lbfgs.max_iterations = max_iterations;
-      lbfgs.deadline = phase_deadline();
+      lbfgs.deadline = deadline_;
+      if (ph.work_cap < std::numeric_limits<long>::max()) lbfgs.stop = [&ph] { return ph.work >= ph.work_cap; };
       lbfgs.max_steepest_step = 0.1;  // a tenth of the local edge length: variables are scaled by it
       const LbfgsReport minimized =
           start_known ? minimize_lbfgs(z, energy, lbfgs, start_energy, grad) : minimize_lbfgs(z, energy, lbfgs);
-      const bool timed_out = minimized.timed_out;
+      const bool timed_out = minimized.timed_out || minimized.stopped;
       double e_prev = minimized.start_energy;
       start_known = false;
       if (!std::isfinite(e_prev)) e_prev = evaluate(ph, z, nullptr, eps, &detmin);  // z did not move
@@ -441,7 +447,7 @@ class Untangler {
         z.setZero();
       }
       if (timed_out) {
-        ph.timed_out = true;
+        ph.timed_out = minimized.timed_out;
         break;
       }
       // What follows only steers the next round.
@@ -529,6 +535,7 @@ class Untangler {
     const long n_movable = long(ph.movable_nodes.size());
     const long n_active = long(ph.active_hexes.size());
     double total = 0, dmin = kInf;
+    ph.work += n_active;
     if (grad) grad->resize(z.size());
     // One parallel region per evaluation, and none for a small region: on a busy machine
     // every fork and barrier can cost a time slice.
@@ -624,12 +631,12 @@ class Untangler {
   std::vector<int> var_offset_;          //!< per node: first variable, -1 if it does not move
   std::vector<Vec3> pos_;
   bool give_up_hopeless_ = false;  //!< see run(): set only between parallel sections
-  //! The stall bound (UntangleOptions::stall_seconds), written only between parallel
-  //! sections: whether it is watched, the fewest inverted hexes so far and when the count
+  //! The stall bound (UntangleOptions::stall_work), written only between parallel sections:
+  //! whether it is watched, the fewest inverted hexes so far, the work done since the count
   //! last fell, and whether it stopped the repair.
   bool watch_stall_ = false, stalled_ = false;
   size_t fewest_inverted_ = 0;
-  Clock::time_point last_fall_;
+  long work_since_fall_ = 0;
   std::vector<Vec3> base_, tangent1_, tangent2_;
 };
 

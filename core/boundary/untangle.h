@@ -66,10 +66,13 @@ struct UntangleOptions {
   //! The run stops (and reports what it reached) after this much wall time.
   double time_limit_seconds = 120.0;
   //! The repair of inverted hexes gives up (UntangleReport::stalled) when their count has not
-  //! fallen for this much wall time, or over a whole pass with the boundary sliding: a fold
-  //! the energy cannot undo is left to the stages after it, not worked on until the time
-  //! limit. 0 = no such bound (only time_limit_seconds).
-  double stall_seconds = 20.0;
+  //! fallen over this much work (hexes evaluated by the energy, summed over its evaluations),
+  //! or over a whole pass with the boundary sliding: a fold the energy cannot undo is left to
+  //! the stages after it, not worked on until the time limit. Work, not wall time, so that a
+  //! run stops at the same point every time; 50 million is about 20 s on 2 cores of the
+  //! machine of docs/BENCHMARKS.md (the shared pelvis's whole untangling is 9 million).
+  //! 0 = no such bound (only time_limit_seconds).
+  long stall_work = 50'000'000;
   //! Length of worst_hexes in the report.
   size_t report_worst = 10;
 };
@@ -84,7 +87,7 @@ struct UntangleReport {
   double seconds = 0;
   bool time_limit_reached = false;
   //! The repair of inverted hexes stopped because their count had stopped falling
-  //! (UntangleOptions::stall_seconds); stalled_after_seconds is when.
+  //! (UntangleOptions::stall_work); stalled_after_seconds is when.
   bool stalled = false;
   double stalled_after_seconds = 0;
   bool undone = false;  //!< it ended with more inverted hexes than it began with: nodes put back

@@ -19,6 +19,7 @@
 #include <chrono>
 #include <cmath>
 #include <deque>
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -29,6 +30,9 @@ struct LbfgsOptions {
   int max_iterations = 100;
   //! Checked before each iteration: past it, the minimizer stops with timed_out.
   std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+  //! Optional, checked before each iteration too: true stops the minimizer (stopped). Unlike
+  //! the deadline, a stop that counts the caller's own work gives the same result every run.
+  std::function<bool()> stop;
   //! Correction pairs kept: more follow the curvature better, each costs two dot products
   //! and two vector updates per iteration.
   int memory = 8;
@@ -50,6 +54,7 @@ struct LbfgsOptions {
 struct LbfgsReport {
   int iterations = 0;
   bool timed_out = false;  //!< stopped at the deadline
+  bool stopped = false;    //!< stopped by LbfgsOptions::stop
   //! f at the given z (a refused start leaves z as it was and no iteration is made).
   double start_energy = std::numeric_limits<double>::infinity();
   double energy = std::numeric_limits<double>::infinity();  //!< f at the returned z
@@ -70,6 +75,10 @@ LbfgsReport lbfgs_from(Eigen::VectorXd& z, Energy& f, const LbfgsOptions& option
   for (; it < options.max_iterations; ++it) {
     if (std::chrono::steady_clock::now() > options.deadline) {
       report.timed_out = true;
+      break;
+    }
+    if (options.stop && options.stop()) {
+      report.stopped = true;
       break;
     }
     // Two-loop recursion.

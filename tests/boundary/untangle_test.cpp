@@ -128,7 +128,7 @@ TEST(Untangle, RepairThatStopsFallingStallsAndSaysSo) {
   stalling.target_scaled_jacobian = 0;  // as the pipeline runs it
   stalling.held = [](size_t, const Vec3&) { return true; };
   UntangleOptions unbounded = stalling;
-  unbounded.stall_seconds = 0;
+  unbounded.stall_work = 0;
   HexMesh a = thrown, b = thrown;
   const UntangleReport stalled = untangle_and_smooth(a, bvh, stalling);
   const UntangleReport endless = untangle_and_smooth(b, bvh, unbounded);
@@ -141,6 +141,37 @@ TEST(Untangle, RepairThatStopsFallingStallsAndSaysSo) {
   EXPECT_LT(stalled.rounds, endless.rounds);
   EXPECT_LE(stalled.inverted_after, stalled.inverted_before);
   EXPECT_EQ(stalled.inverted_after, endless.inverted_after);
+}
+
+// The stall bound counts work (hexes evaluated), not seconds: a run it stops stops at the same
+// point every time, so its mesh is the same in every run, however busy the machine. Here the
+// held fold keeps the inverted count from falling, and a small bound stops the repair part way
+// through its rounds (fewer rounds than without the bound); two runs give identical nodes.
+TEST(Untangle, StallBoundCountsWorkSoAStalledRunIsTheSameEveryTime) {
+  const TriSurface cube = box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), 4);
+  HexMesh thrown = hex_block(Vec3(0, 0, 0), Vec3(1, 1, 1), 4, 4, 4);
+  label_boundary(thrown, box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), 1));
+  for (int j = 1; j <= 3; ++j) thrown.nodes[size_t((4 * 5 + j) * 5 + 1)] = Vec3(0.95, 0.25 * j + 0.045, 1.0);
+  const TriangleBvh bvh(cube);
+  UntangleOptions bounded;
+  bounded.target_scaled_jacobian = 0;
+  bounded.held = [](size_t, const Vec3&) { return true; };
+  bounded.slide_boundary = false;  // only the interior repair, which the bound must stop
+  bounded.stall_work = 20000;
+  UntangleOptions unbounded = bounded;
+  unbounded.stall_work = 0;
+  HexMesh a = thrown, b = thrown, c = thrown;
+  const UntangleReport first = untangle_and_smooth(a, bvh, bounded);
+  const UntangleReport second = untangle_and_smooth(b, bvh, bounded);
+  const UntangleReport endless = untangle_and_smooth(c, bvh, unbounded);
+  std::printf("held fold, interior repair: %d rounds with the bound (%zu inverted after), %d without (%zu)\n",
+              first.rounds, first.inverted_after, endless.rounds, endless.inverted_after);
+  ASSERT_GT(endless.inverted_after, 0u) << "the fold must be beyond repair for the test to bite";
+  EXPECT_TRUE(first.stalled);
+  EXPECT_LT(first.rounds, endless.rounds);
+  EXPECT_EQ(first.rounds, second.rounds);
+  ASSERT_EQ(a.nodes.size(), b.nodes.size());
+  for (size_t v = 0; v < a.nodes.size(); ++v) ASSERT_EQ(a.nodes[v], b.nodes[v]) << "node " << v;
 }
 
 // The repairs and the shape pass work where the mesh is poor, not everywhere: in a block
