@@ -114,19 +114,34 @@ TEST(Untangle, HopelessRepairNeverEndsWithMoreInvertedHexes) {
   }
 }
 
+namespace {
+
+// A 4 x 4 x 4 block of the unit cube with three top-face nodes thrown across their neighbours,
+// and options that hold every boundary node where it is: a fold no repair can undo.
+HexMesh block_with_held_fold() {
+  HexMesh thrown = hex_block(Vec3(0, 0, 0), Vec3(1, 1, 1), 4, 4, 4);
+  label_boundary(thrown, box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), 1));
+  for (int j = 1; j <= 3; ++j) thrown.nodes[size_t((4 * 5 + j) * 5 + 1)] = Vec3(0.95, 0.25 * j + 0.045, 1.0);
+  return thrown;
+}
+UntangleOptions holding_the_boundary() {
+  UntangleOptions options;
+  options.target_scaled_jacobian = 0;  // as the pipeline runs it
+  options.held = [](size_t, const Vec3&) { return true; };
+  return options;
+}
+
+}  // namespace
+
 // A repair that cannot succeed gives way: with the thrown top-face nodes held where they
 // are, no pass can undo the fold, so the first sliding pass that removes no inverted hex ends
 // the repair (UntangleReport::stalled), where without the stall bound every pass and the
 // repair towards the target run again on the same folds. The result is no worse for it.
 TEST(Untangle, RepairThatStopsFallingStallsAndSaysSo) {
   const TriSurface cube = box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), 4);
-  HexMesh thrown = hex_block(Vec3(0, 0, 0), Vec3(1, 1, 1), 4, 4, 4);
-  label_boundary(thrown, box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), 1));
-  for (int j = 1; j <= 3; ++j) thrown.nodes[size_t((4 * 5 + j) * 5 + 1)] = Vec3(0.95, 0.25 * j + 0.045, 1.0);
+  const HexMesh thrown = block_with_held_fold();
   const TriangleBvh bvh(cube);
-  UntangleOptions stalling;
-  stalling.target_scaled_jacobian = 0;  // as the pipeline runs it
-  stalling.held = [](size_t, const Vec3&) { return true; };
+  const UntangleOptions stalling = holding_the_boundary();
   UntangleOptions unbounded = stalling;
   unbounded.stall_work = 0;
   HexMesh a = thrown, b = thrown;
@@ -149,13 +164,9 @@ TEST(Untangle, RepairThatStopsFallingStallsAndSaysSo) {
 // through its rounds (fewer rounds than without the bound); two runs give identical nodes.
 TEST(Untangle, StallBoundCountsWorkSoAStalledRunIsTheSameEveryTime) {
   const TriSurface cube = box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), 4);
-  HexMesh thrown = hex_block(Vec3(0, 0, 0), Vec3(1, 1, 1), 4, 4, 4);
-  label_boundary(thrown, box_surface(Vec3(0, 0, 0), Vec3(1, 1, 1), 1));
-  for (int j = 1; j <= 3; ++j) thrown.nodes[size_t((4 * 5 + j) * 5 + 1)] = Vec3(0.95, 0.25 * j + 0.045, 1.0);
+  const HexMesh thrown = block_with_held_fold();
   const TriangleBvh bvh(cube);
-  UntangleOptions bounded;
-  bounded.target_scaled_jacobian = 0;
-  bounded.held = [](size_t, const Vec3&) { return true; };
+  UntangleOptions bounded = holding_the_boundary();
   bounded.slide_boundary = false;  // only the interior repair, which the bound must stop
   bounded.stall_work = 20000;
   UntangleOptions unbounded = bounded;
