@@ -47,4 +47,9 @@ double angle_between_sides_deg(const std::array<Vec3, 3>& A, const std::array<Ve
   return std::atan2(na.cross(nb).norm(), -na.dot(nb)) * 180.0 / M_PI;
 }
 
+bool has_zero_area(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double longest_sq = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+  return a == b || b == c || c == a || (b - a).cross(c - a).norm() <= 1e-12 * longest_sq;
+}
+
 }  // namespace dthex

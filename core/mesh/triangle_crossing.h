@@ -4,7 +4,9 @@
 // question. The check counts ends within rounding of a plane as on it; the guard, stricter,
 // does not, so what the guard lets through the check passes too. And whether two triangles on
 // one edge fold onto each other: the input's verification and the coarsening's check ask that
-// alike, so that an input the verification accepts is not one no coarsening can pass.
+// alike, so that an input the verification accepts is not one no coarsening can pass. And
+// whether a triangle has zero area: the verification refuses such a triangle, the repair flips
+// it away and the remeshing makes none, by this one test.
 #pragma once
 
 #include <dthex/mesh/types.h>
@@ -41,6 +43,12 @@ constexpr double kFoldedCosineMargin = 1e-10;
 //! opposite directions), fold onto each other (kFoldedCosineMargin)? A flat fold, one lying on
 //! the other, is the limit; the test needs no exact arithmetic, as no sign decides it.
 bool triangles_fold_onto_each_other(const std::array<Vec3, 3>& A, const std::array<Vec3, 3>& B);
+
+//! Has the triangle with these corners zero area: a repeated corner, or a cross product of two
+//! edges at most 1e-12 of the longest edge squared (corners within rounding of one line)?
+//! verify_surface() refuses such a triangle, flip_zero_area_slivers() flips it away, and
+//! remesh_isotropic() makes none.
+bool has_zero_area(const Vec3& a, const Vec3& b, const Vec3& c);
 
 //! The angle between the sides of two such triangles, in degrees (0: folded flat; 180: flat).
 double angle_between_sides_deg(const std::array<Vec3, 3>& A, const std::array<Vec3, 3>& B);

@@ -2,6 +2,7 @@
 #include <dthex/repair/flip_zero_area_slivers.h>
 
 #include <dthex/mesh/hex_topology.h>
+#include <dthex/mesh/triangle_crossing.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -9,11 +10,6 @@
 #include <unordered_map>
 
 namespace dthex {
-
-bool has_zero_area(const Vec3& a, const Vec3& b, const Vec3& c) {
-  const double longest_sq = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
-  return a == b || b == c || c == a || (b - a).cross(c - a).norm() <= 1e-12 * longest_sq;
-}
 
 FlipZeroAreaSliversReport flip_zero_area_slivers(TriSurface& surface, const FlipZeroAreaSliversOptions& options) {
   FlipZeroAreaSliversReport report;

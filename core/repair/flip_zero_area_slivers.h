@@ -38,7 +38,4 @@ struct FlipZeroAreaSliversReport {
 //! on exactly two triangles.
 FlipZeroAreaSliversReport flip_zero_area_slivers(TriSurface& surface, const FlipZeroAreaSliversOptions& options = {});
 
-//! verify_surface()'s zero-area test for the triangle with these corners.
-bool has_zero_area(const Vec3& a, const Vec3& b, const Vec3& c);
-
 }  // namespace dthex

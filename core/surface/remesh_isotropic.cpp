@@ -337,13 +337,15 @@ class Remesher {
   }
 
   // Triangles an edit would make, each with the unit normal of the one it replaces: none may
-  // have zero area (two vertices put on the input at one point, as at the tip of a pit),
+  // have zero area as the verification counts it (has_zero_area: two vertices put on the
+  // input at one point, as at the tip of a pit, or a flip onto a split edge's midpoint),
   // turn further than to `keep_facing_cos`, or pass through the other side of a thin wall.
   bool acceptable(const std::vector<std::array<Vec3, 3>>& made, const std::vector<Vec3>& was,
                   double keep_facing_cos = kKeepFacingCos) {
     for (size_t i = 0; i < made.size(); ++i) {
+      if (has_zero_area(made[i][0], made[i][1], made[i][2])) return false;
       const Vec3 n = (made[i][1] - made[i][0]).cross(made[i][2] - made[i][0]);
-      if (!(n.norm() > 0) || n.normalized().dot(was[i]) < keep_facing_cos) return false;
+      if (n.normalized().dot(was[i]) < keep_facing_cos) return false;
     }
     for (const auto& t : made)
       if (crosses_other_side(t)) return false;

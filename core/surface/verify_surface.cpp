@@ -227,9 +227,7 @@ SurfaceStats verify_surface(TriSurface& surface, const std::string& name, const 
     const Triangle& tri = T[size_t(t)];
     if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0])
       refuse("degenerate triangle", describe.triangle(t) + " repeats a vertex");
-    const Vec3 &a = P[size_t(tri[0])], &b = P[size_t(tri[1])], &c = P[size_t(tri[2])];
-    const double longest_sq = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
-    if (a == b || b == c || c == a || (b - a).cross(c - a).norm() <= 1e-12 * longest_sq)
+    if (has_zero_area(P[size_t(tri[0])], P[size_t(tri[1])], P[size_t(tri[2])]))
       refuse("degenerate triangle",
              describe.triangle(t) + " has zero area; --repair safe flips such a sliver away where its neighbour " +
                  "allows, else remove it in MeshLab (Remove Zero Area Faces) or with PyMeshFix and close the hole");

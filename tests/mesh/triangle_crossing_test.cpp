@@ -63,3 +63,20 @@ TEST(TriangleCrossing, TrianglesSideBySideOnATurnedPlaneDoNotCross) {
   EXPECT_EQ(through, 2000);
   EXPECT_GT(noise, 0);
 }
+
+// The zero-area test counts corners within rounding of one line, not only an exactly zero
+// cross product. The remeshing made such a triangle of the flattened heart (its corners two
+// ends of a split edge, at about these coordinates, and the split's point, as a flip can make
+// it): its cross product was not zero in floating point, so a test for exactly zero let it
+// through, and the verification, which uses this test, then refused the remeshed surface. A
+// triangle of a hair's height stays one with area.
+TEST(TriangleCrossing, ZeroAreaMeansWithinRoundingOfOneLine) {
+  const Vec3 a(27.29937064, -35.70330127, 19.81772699), b(27.25888167, -35.80870983, 19.81905495);
+  const Vec3 m = a + 0.3 * (b - a);
+  EXPECT_GT((b - a).cross(m - a).norm(), 0.0);
+  EXPECT_TRUE(has_zero_area(a, b, m));
+  EXPECT_TRUE(has_zero_area(a, a, b));
+  const Vec3 off = m + 1e-6 * (b - a).norm() * (b - a).cross(Vec3::UnitZ()).normalized();
+  EXPECT_FALSE(has_zero_area(a, b, off));
+  EXPECT_FALSE(has_zero_area(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)));
+}

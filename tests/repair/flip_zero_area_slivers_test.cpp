@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include <dthex/io/read_surface.h>
 #include <dthex/repair/flip_zero_area_slivers.h>
+
+#include <dthex/mesh/triangle_crossing.h>
 #include <dthex/repair/remove_redundant_triangles.h>
 #include <dthex/surface/verify_surface.h>
 
