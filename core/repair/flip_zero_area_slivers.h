@@ -7,6 +7,7 @@
 // cover exactly what it covered. The surface stays closed and manifold, the shape unchanged.
 #pragma once
 
+#include <dthex/mesh/triangle_crossing.h>  // has_zero_area, the test this repair flips away
 #include <dthex/mesh/types.h>
 
 #include <vector>
