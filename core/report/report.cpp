@@ -131,10 +131,15 @@ std::string text(const CoarsenStageReport& r) {
   if (r.coarsen.cut_vertices)
     out += ", in two halves at once (cut through " + count_text("vertices", r.coarsen.cut_vertices) + ")";
   if (r.flat_valence3_removed) out += ", " + count_text("flat three-triangle vertices removed", r.flat_valence3_removed);
+  const size_t taken_back = r.needles.rounds_taken_back;
   if (r.needles.vertices_added)
     out += ", " + std::to_string(r.needles.needles_before) + " needles on flat faces refined (" +
            count_text("vertices added", r.needles.vertices_added) + ", " + std::to_string(r.needles.needles_after) +
-           " left)";
+           " left" + (taken_back ? "; " + count_text("later rounds", taken_back) + " that left more taken back" : "") +
+           ")";
+  else if (taken_back)
+    out += ", " + std::to_string(r.needles.needles_before) +
+           " needles on flat faces left as they were (refining them left more)";
   return out;
 }
 
@@ -367,7 +372,8 @@ json fields(const CoarsenStageReport& s) {
           {"flat_needles_before", s.needles.needles_before},
           {"flat_needles_after", s.needles.needles_after},
           {"flat_needle_vertices_added", s.needles.vertices_added},
-          {"flat_needle_flips", s.needles.flips}};
+          {"flat_needle_flips", s.needles.flips},
+          {"flat_needle_rounds_taken_back", s.needles.rounds_taken_back}};
   // The larger eps whose coarsening failed first (only when one did).
   if (!s.failed.empty()) {
     json failed = json::array();

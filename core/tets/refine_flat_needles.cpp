@@ -34,9 +34,16 @@ class NeedleRefiner {
 
   RefineFlatNeedlesReport run() {
     RefineFlatNeedlesReport report;
-    report.needles_before = workable_needles().size();
+    report.needles_before = report.needles_after = workable_needles().size();
+    if (report.needles_before == 0) return report;
+    // A round can leave more needles than it found (the splits' new triangles next to the
+    // outline are needles too, and the count can grow from round to round): the mesh of the
+    // last round that left the fewest is kept, the mesh as it came if every round left more.
+    SurfaceMesh fewest_mesh = m_;
+    RefineFlatNeedlesReport fewest = report;
     const size_t budget =
         std::max<size_t>(64, size_t(options_.max_added_fraction * double(m_.n_vertices())));
+    int rounds = 0, fewest_round = 0;
     for (int round = 0; round < options_.max_rounds && report.vertices_added < budget; ++round) {
       size_t splits = 0;
       for (FaceHandle f : workable_needles()) {
@@ -55,8 +62,19 @@ class NeedleRefiner {
       report.flips += make_delaunay();
       relax_added_vertices();
       report.flips += make_delaunay();
+      rounds = round + 1;
+      report.needles_after = workable_needles().size();
+      if (report.needles_after <= fewest.needles_after) {
+        fewest = report;
+        fewest_round = rounds;
+        fewest_mesh = m_;
+      }
     }
-    report.needles_after = workable_needles().size();
+    if (fewest_round < rounds) {
+      m_ = fewest_mesh;
+      report = fewest;
+      report.rounds_taken_back = size_t(rounds - fewest_round);
+    }
     return report;
   }
 

@@ -7,22 +7,21 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 using namespace dthex;
 
 namespace {
 
-// A closed drum: a regular n-gon of radius 1 at z = 0 and its copy at z = height, each cap
-// a fan from its vertex 0 (every vertex on the outline, needles of 180/n degrees at the
-// fan's apex, as hole filling closes a cut), and the side quads split into two triangles
-// each. Outward oriented.
-TriSurface fan_capped_drum(int n, double height) {
+// A closed drum: the points of a unit circle at `angles` (radians, increasing) at z = 0 and
+// their copies at z = height, each cap a fan from its vertex 0 (every vertex on the outline,
+// needles at the fan's apex, as hole filling closes a cut), and the side quads split into two
+// triangles each. Outward oriented.
+TriSurface fan_capped_drum_at(const std::vector<double>& angles, double height) {
   TriSurface s;
+  const int n = int(angles.size());
   for (int k = 0; k < 2; ++k)
-    for (int i = 0; i < n; ++i) {
-      const double a = 2 * M_PI * i / n;
-      s.points.push_back({std::cos(a), std::sin(a), k * height});
-    }
+    for (double a : angles) s.points.push_back({std::cos(a), std::sin(a), k * height});
   for (int i = 1; i + 1 < n; ++i) {
     s.triangles.push_back({0, i + 1, i});              // bottom, facing -z
     s.triangles.push_back({n, n + i, n + i + 1});      // top, facing +z
@@ -33,6 +32,13 @@ TriSurface fan_capped_drum(int n, double height) {
     s.triangles.push_back({i, n + j, n + i});
   }
   return s;
+}
+
+// The same with a regular n-gon for caps (needles of 180/n degrees at the fan's apex).
+TriSurface fan_capped_drum(int n, double height) {
+  std::vector<double> angles;
+  for (int i = 0; i < n; ++i) angles.push_back(2 * M_PI * i / n);
+  return fan_capped_drum_at(angles, height);
 }
 
 double smallest_angle_deg(const TriSurface& s, int t) {
@@ -117,4 +123,38 @@ TEST(RefineFlatNeedles, LeavesSurfacesWithoutFlatNeedlesUntouched) {
     EXPECT_EQ(s->points, before.points);
     EXPECT_EQ(s->triangles, before.triangles);
   }
+}
+
+// A cap whose outline is dense along one arc (40 points within 30 degrees) and sparse along the
+// rest (8 points): the splits of its needles make new needles against the dense arc faster than
+// they remove old ones. The round that left more is taken back, and with no round leaving fewer
+// the surface is returned exactly as it came. Kept, that round would leave 102 needles of the
+// 76 and 64 points added.
+TEST(RefineFlatNeedles, RoundsThatLeaveMoreNeedlesAreTakenBack) {
+  std::vector<double> angles;
+  const double arc = 30 * M_PI / 180;
+  for (int i = 0; i < 40; ++i) angles.push_back(arc * i / 40);
+  for (int i = 0; i < 8; ++i) angles.push_back(arc + (2 * M_PI - arc) * i / 8);
+  TriSurface s = fan_capped_drum_at(angles, 2.0);
+  const TriSurface before = s;
+  const RefineFlatNeedlesReport report = refine_flat_needles(s);
+  EXPECT_EQ(report.needles_before, 76u);
+  EXPECT_GE(report.rounds_taken_back, 1u);
+  EXPECT_EQ(report.needles_after, report.needles_before);
+  EXPECT_EQ(report.vertices_added, 0u);
+  EXPECT_EQ(s.points, before.points);
+  EXPECT_EQ(s.triangles, before.triangles);
+
+  // Where the first rounds help and later ones would not, the best round is kept: never more
+  // needles than before, and fewer here.
+  std::vector<double> uneven;
+  const double wide = 60 * M_PI / 180;
+  for (int i = 0; i < 20; ++i) uneven.push_back(wide * i / 20);
+  for (int i = 0; i < 10; ++i) uneven.push_back(wide + (2 * M_PI - wide) * i / 10);
+  TriSurface t = fan_capped_drum_at(uneven, 2.0);
+  const RefineFlatNeedlesReport helped = refine_flat_needles(t);
+  EXPECT_LT(helped.needles_after, helped.needles_before);
+  EXPECT_GT(helped.vertices_added, 0u);
+  const SurfaceStats stats = verify_surface(t, "refined uneven drum");
+  EXPECT_EQ(stats.flipped_components, 0u);
 }
