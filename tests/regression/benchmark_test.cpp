@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The benchmark harness: its CSV rows are the pipeline's own numbers, each method runs
 // with its options, and a run past the timeout is killed and reported as such.
+#include <dthex/io/read_surface.h>
+#include <dthex/io/write_surface.h>
 #include <dthex/pipeline/pipeline.h>
 #include "scratch_dir.h"
 #include "bundled_meshes.h"
@@ -8,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -139,5 +142,35 @@ TEST(Benchmark, RunPastTheTimeoutIsKilledAndReported) {
   std::stringstream text;
   text << err.rdbuf();
   EXPECT_NE(text.str().find("--methods"), std::string::npos) << text.str();
+  fs::remove_all(dir);
+}
+
+// --subdivide on a surface with many triangles at a vertex: a double cone of 64 rim points,
+// each apex in 64 triangles. Loop subdivision moves every point to an average of points of
+// the input, so the subdivided copy stays inside the input's bounding box; OpenMesh's LoopT,
+// whose weights were made for fewer than 50 triangles at a vertex, had sent the apexes far out
+// of it (the ear drum's poles, 160 triangles each, became a spike).
+TEST(Benchmark, SubdividedCopyOfAManyValencedApexStaysInsideTheInputsBox) {
+  const fs::path dir = benchmark_scratch("subdivide");
+  dthex::TriSurface cone;
+  const int n = 64;
+  for (int i = 0; i < n; ++i)
+    cone.points.push_back({std::cos(2 * M_PI * i / n), std::sin(2 * M_PI * i / n), 0.0});
+  cone.points.push_back({0, 0, 1});
+  cone.points.push_back({0, 0, -1});
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    cone.triangles.push_back({i, j, n});
+    cone.triangles.push_back({j, i, n + 1});
+  }
+  const fs::path input = dir / "double_cone.off";
+  dthex::write_surface(cone, input.string());
+  ASSERT_EQ(run_benchmark(input.string() + " --subdivide 1 --methods thex --timeout 120 --work-dir " + dir.string(), dir), 0);
+  const dthex::TriSurface copy = dthex::read_surface((dir / "double_cone_loop1.off").string());
+  ASSERT_EQ(copy.triangles.size(), 4 * cone.triangles.size());
+  for (const auto& p : copy.points) {
+    EXPECT_LE(std::abs(p.z()), 1.0) << p.transpose();
+    EXPECT_LE(p.head<2>().norm(), 1.0 + 1e-9) << p.transpose();
+  }
   fs::remove_all(dir);
 }
