@@ -366,9 +366,9 @@ std::string subdivided_copy(const std::string& path, int levels, const fs::path&
   if (fs::exists(out)) return out.string();
   dthex::SurfaceMesh mesh = dthex::to_openmesh(dthex::read_surface(path));
   OpenMesh::Subdivider::Uniform::LoopT<dthex::SurfaceMesh> loop;
-  // LoopT's vertex weights are made for valences below 50 and read past their end above: the
-  // pole of a surface of revolution (the ear drum's umbo, 160 triangles) became a spike seven
-  // times the drum's depth. Subdivision keeps the valence of old vertices and gives new ones 6.
+  // LoopT's vertex weights are made for valences below 50 and read past their end above: of
+  // the ear drum's two poles, 160 triangles each, one became a spike seven times the drum's
+  // depth. Subdivision keeps the valence of old vertices and gives new ones 6.
   size_t most_triangles_at_a_vertex = 6;
   for (auto v : mesh.vertices()) most_triangles_at_a_vertex = std::max(most_triangles_at_a_vertex, size_t(mesh.valence(v)));
   loop.init_weights(most_triangles_at_a_vertex + 1);
