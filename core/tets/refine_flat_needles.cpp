@@ -34,8 +34,9 @@ class NeedleRefiner {
 
   RefineFlatNeedlesReport run() {
     RefineFlatNeedlesReport report;
-    report.needles_before = report.needles_after = workable_needles().size();
-    if (report.needles_before == 0) return report;
+    std::vector<FaceHandle> needles = workable_needles();
+    report.needles_before = report.needles_after = needles.size();
+    if (needles.empty()) return report;
     // A round can leave more needles than it found (the splits' new triangles next to the
     // outline are needles too, and the count can grow from round to round): the mesh of the
     // last round that left the fewest is kept, the mesh as it came if every round left more.
@@ -46,7 +47,7 @@ class NeedleRefiner {
     int rounds = 0, fewest_round = 0;
     for (int round = 0; round < options_.max_rounds && report.vertices_added < budget; ++round) {
       size_t splits = 0;
-      for (FaceHandle f : workable_needles()) {
+      for (FaceHandle f : needles) {
         if (report.vertices_added >= budget) break;
         // An earlier split in this pass may have changed the face.
         if (m_.status(f).deleted()) continue;
@@ -63,7 +64,8 @@ class NeedleRefiner {
       relax_added_vertices();
       report.flips += make_delaunay();
       rounds = round + 1;
-      report.needles_after = workable_needles().size();
+      needles = workable_needles();  // the next round's, counted here
+      report.needles_after = needles.size();
       if (report.needles_after <= fewest.needles_after) {
         fewest = report;
         fewest_round = rounds;

@@ -149,7 +149,7 @@ TEST(Benchmark, RunPastTheTimeoutIsKilledAndReported) {
 // each apex in 64 triangles. Loop subdivision moves every point to an average of points of
 // the input, so the subdivided copy stays inside the input's bounding box; OpenMesh's LoopT,
 // whose weights were made for fewer than 50 triangles at a vertex, had sent the apexes far out
-// of it (the ear drum's poles, 160 triangles each, became a spike).
+// of it (of the ear drum's two poles, 160 triangles each, one became a spike).
 TEST(Benchmark, SubdividedCopyOfAManyValencedApexStaysInsideTheInputsBox) {
   const fs::path dir = benchmark_scratch("subdivide");
   dthex::TriSurface cone;
